@@ -1,0 +1,254 @@
+//! The session log (`results/<study>/sessions/<subject>.jsonl`), format `blurlab-session/1`:
+//! JSON Lines, append-only. The first line is the [`Header`]; every completed trial adds one
+//! [`TrialRecord`] line, written, flushed and synced before the next trial starts.
+//! A torn last line (a crash mid-write) is ignored with a warning; any other bad line is an error
+//! naming the file and line number.
+
+use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The format tag in every header; readers refuse any other.
+pub const LOG_FORMAT: &str = "blurlab-session/1";
+
+/// One line of a session log.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum LogLine {
+    Header(Header),
+    Trial(TrialRecord),
+}
+
+/// What the session is: who, which design, how it was randomized, on what display.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Header {
+    /// Always [`LOG_FORMAT`].
+    pub format: String,
+    pub subject: String,
+    /// Session number for this subject (1 for the first; a resume keeps the number).
+    pub session: u32,
+    /// The design's name.
+    pub design: String,
+    /// SHA-256 of the design file's canonical JSON: a resume or an analysis refuses a mismatch.
+    pub design_hash: String,
+    /// Master seed of the randomization (trial order, pair and side assignment).
+    pub seed: u64,
+    /// `blurlab <version>` of the program that wrote the log.
+    pub app_version: String,
+    /// `gui` for a real subject, `simulated` for an observer model.
+    pub mode: String,
+    /// Seconds since the Unix epoch when the log was created.
+    pub started_unix: f64,
+    /// Trials in the full list, practice excluded.
+    pub trials_planned: u32,
+    /// The display, when a window was used.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub display: Option<Display>,
+    /// The simulated observer's parameters, when simulated.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub observer: Option<serde_json::Value>,
+}
+
+/// The display a session ran on.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Display {
+    /// Physical pixels.
+    pub width: u32,
+    pub height: u32,
+    pub pixels_per_point: f32,
+    /// Measured median interval between repaints, milliseconds.
+    pub refresh_interval_ms: f64,
+}
+
+/// Which pair of the trial, or which side of a pair.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Hash)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    Left,
+    Right,
+}
+
+/// One answered trial.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct TrialRecord {
+    /// Position in the subject's trial list (practice trials count separately from 0).
+    pub index: u32,
+    /// Practice trials are logged but never analyzed.
+    pub practice: bool,
+    pub scene: String,
+    pub point_set: String,
+    pub time_filter: String,
+    /// The test video's samples per pixel.
+    pub level: u32,
+    pub test_stimulus: String,
+    pub reference_stimulus: String,
+    /// Which pair (1 or 2) held reference/test.
+    pub diff_pair: u8,
+    /// Side of the test video within its pair.
+    pub test_side: Side,
+    /// The pair the subject chose (1 or 2).
+    pub response: u8,
+    pub correct: bool,
+    /// Milliseconds from the end of the last presentation to the answer.
+    pub rt_ms: f64,
+    /// Onset of each presented video pair, ms since the session started.
+    #[serde(default)]
+    pub onsets_ms: Vec<f64>,
+    /// Display time of each drawn frame, ms since the session started.
+    #[serde(default)]
+    pub frame_times_ms: Vec<f64>,
+    /// Frames whose index skipped during playback.
+    #[serde(default)]
+    pub dropped_frames: u32,
+}
+
+/// A whole log read back.
+#[derive(Clone, Debug)]
+pub struct SessionLog {
+    pub path: PathBuf,
+    pub header: Header,
+    pub trials: Vec<TrialRecord>,
+    /// Problems that were tolerated (a torn last line).
+    pub warnings: Vec<String>,
+}
+
+impl SessionLog {
+    /// Read a log, refusing unknown formats and corrupt lines (except a torn last line).
+    pub fn read(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read session log {}", path.display()))?;
+        parse_log(path, &text)
+    }
+
+    /// The trials that count for analysis.
+    pub fn main_trials(&self) -> impl Iterator<Item = &TrialRecord> {
+        self.trials.iter().filter(|t| !t.practice)
+    }
+}
+
+fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
+    let torn_tail = !text.is_empty() && !text.ends_with('\n');
+    let lines: Vec<&str> = text.lines().collect();
+    let mut header = None;
+    let mut trials = Vec::new();
+    let mut warnings = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let lineno = i + 1;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let parsed: Result<LogLine, _> = serde_json::from_str(line);
+        let is_last = i + 1 == lines.len();
+        match parsed {
+            Ok(LogLine::Header(h)) if header.is_none() && trials.is_empty() => {
+                if h.format != LOG_FORMAT {
+                    bail!(
+                        "{}:{lineno}: field `format` is {:?}; this version reads {:?}",
+                        path.display(),
+                        h.format,
+                        LOG_FORMAT
+                    );
+                }
+                header = Some(h);
+            }
+            Ok(LogLine::Header(_)) => {
+                bail!("{}:{lineno}: a second header line", path.display())
+            }
+            Ok(LogLine::Trial(_)) if header.is_none() => {
+                bail!("{}:{lineno}: trial before the header line", path.display())
+            }
+            Ok(LogLine::Trial(t)) => trials.push(t),
+            Err(e) if is_last && torn_tail => warnings.push(format!(
+                "{}:{lineno}: ignoring an incomplete last line (the session was interrupted while writing it): {e}",
+                path.display()
+            )),
+            Err(e) => bail!("{}:{lineno}: not a valid log line: {e}", path.display()),
+        }
+    }
+    let Some(header) = header else {
+        bail!("{}: no header line; not a session log", path.display());
+    };
+    Ok(SessionLog {
+        path: path.to_path_buf(),
+        header,
+        trials,
+        warnings,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn header() -> Header {
+        Header {
+            format: LOG_FORMAT.into(),
+            subject: "s01".into(),
+            session: 1,
+            design: "demo".into(),
+            design_hash: "ab".into(),
+            seed: 3,
+            app_version: "blurlab 0.1.0".into(),
+            mode: "simulated".into(),
+            started_unix: 0.0,
+            trials_planned: 2,
+            display: None,
+            observer: None,
+        }
+    }
+
+    fn trial(index: u32) -> TrialRecord {
+        TrialRecord {
+            index,
+            practice: false,
+            scene: "plane".into(),
+            point_set: "hammersley".into(),
+            time_filter: "truncated_box".into(),
+            level: 8,
+            test_stimulus: "t".into(),
+            reference_stimulus: "r".into(),
+            diff_pair: 1,
+            test_side: Side::Left,
+            response: 1,
+            correct: true,
+            rt_ms: 500.0,
+            onsets_ms: vec![],
+            frame_times_ms: vec![],
+            dropped_frames: 0,
+        }
+    }
+
+    fn text(lines: &[LogLine]) -> String {
+        lines
+            .iter()
+            .map(|l| serde_json::to_string(l).unwrap() + "\n")
+            .collect()
+    }
+
+    #[test]
+    fn torn_last_line_is_ignored_with_warning() {
+        let mut t = text(&[LogLine::Header(header()), LogLine::Trial(trial(0))]);
+        let whole = serde_json::to_string(&LogLine::Trial(trial(1))).unwrap();
+        t.push_str(&whole[..whole.len() / 2]);
+        let log = parse_log(Path::new("x.jsonl"), &t).unwrap();
+        assert_eq!(log.trials.len(), 1);
+        assert_eq!(log.warnings.len(), 1);
+    }
+
+    #[test]
+    fn corrupt_middle_line_is_an_error_with_line_number() {
+        let mut t = text(&[LogLine::Header(header())]);
+        t.push_str("{garbage\n");
+        t.push_str(&text(&[LogLine::Trial(trial(0))]));
+        let err = parse_log(Path::new("x.jsonl"), &t).unwrap_err().to_string();
+        assert!(err.contains("x.jsonl:2"), "{err}");
+    }
+
+    #[test]
+    fn unknown_format_is_refused() {
+        let mut h = header();
+        h.format = "blurlab-session/7".into();
+        let err = parse_log(Path::new("x.jsonl"), &text(&[LogLine::Header(h)])).unwrap_err();
+        assert!(err.to_string().contains("blurlab-session/1"));
+    }
+}

@@ -1,0 +1,8 @@
+//! The renderer: motion-blurred distribution ray tracing of stimulus videos
+//! (thesis Chapter III), the sampling machinery the study compares, and stimulus jobs.
+
+pub mod atomic;
+pub mod cli;
+pub mod hash;
+pub mod manifest;
+pub mod sampling;

@@ -1,0 +1,186 @@
+//! The stimulus manifest (`stimuli/<job>/manifest.json`): the one file through which the
+//! experiment and the analysis learn what was rendered. Format `blurlab-manifest/1`.
+
+use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The format tag every manifest carries; readers refuse any other.
+pub const MANIFEST_FORMAT: &str = "blurlab-manifest/1";
+
+/// File name of a job's manifest inside its stimulus folder.
+pub const MANIFEST_FILE: &str = "manifest.json";
+
+/// One rendered stimulus set (one job).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    /// Always [`MANIFEST_FORMAT`].
+    pub format: String,
+    /// The job's name.
+    pub job: String,
+    /// One entry per rendered video, references included.
+    pub stimuli: Vec<Stimulus>,
+}
+
+/// One rendered video.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Stimulus {
+    /// Stable id, e.g. `plane-hammersley-truncated_box-64`; the experiment and analysis use only this.
+    pub id: String,
+    /// Scene name (the scene file's stem).
+    pub scene: String,
+    /// Point set name, e.g. `hammersley`.
+    pub point_set: String,
+    /// Time filter name, e.g. `truncated_box`.
+    pub time_filter: String,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// True for the high-density reference of its scene.
+    pub reference: bool,
+    /// The stimulus's master seed.
+    pub seed: u64,
+    pub width: u32,
+    pub height: u32,
+    /// Number of frames in the video.
+    pub frames: u32,
+    /// Playback rate.
+    pub fps: f64,
+    /// Display frames (8-bit sRGB PNG), relative to the manifest's folder, in playback order.
+    pub frame_paths: Vec<String>,
+    /// Linear HDR frames (EXR), relative to the manifest's folder, when rendered.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub exr_paths: Vec<String>,
+    /// SHA-256 over the display frames' bytes in order, lowercase hex.
+    pub content_hash: String,
+    /// Wall-clock seconds the render took.
+    pub render_seconds: f64,
+    /// Error against the scene's reference, averaged over frames (absent for references).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<ErrorMetrics>,
+}
+
+/// Error of a stimulus against its reference, averaged over frames.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ErrorMetrics {
+    /// Root mean squared error in linear HDR radiance (after exposure).
+    pub rmse: f64,
+    /// Relative MSE: mean of (x - r)^2 / (r^2 + 0.01) in linear HDR.
+    pub rel_mse: f64,
+    /// PSNR in dB of the 8-bit display frames.
+    pub psnr: f64,
+    /// Mean FLIP error of the display frames (0 = identical, 1 = maximal).
+    pub flip: f64,
+}
+
+impl Manifest {
+    /// An empty manifest for a job.
+    pub fn new(job: &str) -> Self {
+        Self {
+            format: MANIFEST_FORMAT.to_string(),
+            job: job.to_string(),
+            stimuli: Vec::new(),
+        }
+    }
+
+    /// Read and check a manifest; `path` may be the file or the folder holding it.
+    pub fn load(path: &Path) -> Result<Self> {
+        let file = manifest_file(path);
+        let text = std::fs::read_to_string(&file)
+            .with_context(|| format!("cannot read stimulus manifest {}", file.display()))?;
+        let m: Manifest = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a valid stimulus manifest", file.display()))?;
+        if m.format != MANIFEST_FORMAT {
+            bail!(
+                "{}: field `format` is {:?}; this version reads {:?}",
+                file.display(),
+                m.format,
+                MANIFEST_FORMAT
+            );
+        }
+        Ok(m)
+    }
+
+    /// Write atomically to `path` (file or folder).
+    pub fn save(&self, path: &Path) -> Result<()> {
+        let json = serde_json::to_vec_pretty(self)?;
+        crate::atomic::write_atomic(&manifest_file(path), &json)
+    }
+
+    /// The stimulus with this id.
+    pub fn get(&self, id: &str) -> Option<&Stimulus> {
+        self.stimuli.iter().find(|s| s.id == id)
+    }
+
+    /// The reference stimulus of a scene.
+    pub fn reference(&self, scene: &str) -> Option<&Stimulus> {
+        self.stimuli
+            .iter()
+            .find(|s| s.reference && s.scene == scene)
+    }
+}
+
+/// `path` itself if it names a file, else `path/manifest.json`.
+pub fn manifest_file(path: &Path) -> PathBuf {
+    if path.extension().is_some_and(|e| e == "json") {
+        path.to_path_buf()
+    } else {
+        path.join(MANIFEST_FILE)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Manifest {
+        let mut m = Manifest::new("demo");
+        m.stimuli.push(Stimulus {
+            id: "plane-hammersley-truncated_box-8".into(),
+            scene: "plane".into(),
+            point_set: "hammersley".into(),
+            time_filter: "truncated_box".into(),
+            spp: 8,
+            reference: false,
+            seed: 1,
+            width: 4,
+            height: 2,
+            frames: 1,
+            fps: 24.0,
+            frame_paths: vec!["a/frame_0000.png".into()],
+            exr_paths: vec![],
+            content_hash: "00".into(),
+            render_seconds: 0.5,
+            error: Some(ErrorMetrics {
+                rmse: 0.1,
+                rel_mse: 0.01,
+                psnr: 30.0,
+                flip: 0.05,
+            }),
+        });
+        m
+    }
+
+    #[test]
+    fn round_trips_through_disk() {
+        let dir = tempfile::tempdir().unwrap();
+        let m = sample();
+        m.save(dir.path()).unwrap();
+        assert_eq!(Manifest::load(dir.path()).unwrap(), m);
+    }
+
+    #[test]
+    fn refuses_unknown_version_naming_the_field() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut m = sample();
+        m.format = "blurlab-manifest/9".into();
+        m.save(dir.path()).unwrap();
+        let err = format!("{:#}", Manifest::load(dir.path()).unwrap_err());
+        assert!(
+            err.contains("format") && err.contains("blurlab-manifest/1"),
+            "{err}"
+        );
+    }
+}
