@@ -1,0 +1,445 @@
+//! Session logs -> binomial counts: correct / trials per subject x group x level, and pooled.
+//!
+//! A *condition* is one cell of the design (scene x point set x time filter). The thesis also
+//! plotted marginal groupings: "per scene" pools each scene over point sets (and time filters),
+//! "per point set" pools each point set over scenes. Every grouping is kept as a [`Group`]: one
+//! [`Curve`] per subject and one pooled over subjects.
+
+use anyhow::{Result, bail};
+use experiment::log::SessionLog;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Correct answers out of trials at one tested level.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct LevelCount {
+    /// Samples per pixel of the test video.
+    pub level: u32,
+    pub correct: u32,
+    pub trials: u32,
+}
+
+impl LevelCount {
+    /// Observed proportion correct (trials is never 0 in a [`Curve`]).
+    pub fn proportion(&self) -> f64 {
+        self.correct as f64 / self.trials as f64
+    }
+
+    /// The stimulus axis: natural log of spp (the thesis plots spp on a log axis).
+    pub fn x(&self) -> f64 {
+        (self.level as f64).ln()
+    }
+}
+
+/// One psychometric data set: counts at each tested level, sorted by level, no empty level.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Curve {
+    pub points: Vec<LevelCount>,
+}
+
+impl Curve {
+    /// Build from (level, correct, trials) triples; levels with 0 trials are dropped and
+    /// repeated levels are summed.
+    pub fn from_counts(counts: impl IntoIterator<Item = (u32, u32, u32)>) -> Self {
+        let mut map: BTreeMap<u32, (u32, u32)> = BTreeMap::new();
+        for (level, correct, trials) in counts {
+            let e = map.entry(level).or_default();
+            e.0 += correct;
+            e.1 += trials;
+        }
+        Curve {
+            points: map
+                .into_iter()
+                .filter(|(_, (_, n))| *n > 0)
+                .map(|(level, (correct, trials))| LevelCount {
+                    level,
+                    correct,
+                    trials,
+                })
+                .collect(),
+        }
+    }
+
+    fn add(&mut self, level: u32, correct: bool) {
+        match self.points.binary_search_by_key(&level, |p| p.level) {
+            Ok(i) => {
+                self.points[i].trials += 1;
+                self.points[i].correct += correct as u32;
+            }
+            Err(i) => self.points.insert(
+                i,
+                LevelCount {
+                    level,
+                    correct: correct as u32,
+                    trials: 1,
+                },
+            ),
+        }
+    }
+
+    fn merge(&mut self, other: &Curve) {
+        for p in &other.points {
+            match self.points.binary_search_by_key(&p.level, |q| q.level) {
+                Ok(i) => {
+                    self.points[i].trials += p.trials;
+                    self.points[i].correct += p.correct;
+                }
+                Err(i) => self.points.insert(i, *p),
+            }
+        }
+    }
+
+    /// Counts at a level, if it was tested.
+    pub fn at(&self, level: u32) -> Option<&LevelCount> {
+        self.points
+            .binary_search_by_key(&level, |p| p.level)
+            .ok()
+            .map(|i| &self.points[i])
+    }
+
+    pub fn total_trials(&self) -> u32 {
+        self.points.iter().map(|p| p.trials).sum()
+    }
+
+    pub fn levels(&self) -> Vec<u32> {
+        self.points.iter().map(|p| p.level).collect()
+    }
+}
+
+/// Which way trials were grouped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Grouping {
+    /// One design cell: scene x point set x time filter.
+    Condition,
+    /// A scene pooled over point sets and time filters (thesis Figures 19, 20, 24).
+    Scene,
+    /// A point set pooled over scenes and time filters (thesis Figures 21-23, 25).
+    PointSet,
+    /// A time filter pooled over scenes and point sets (only when the design has several).
+    TimeFilter,
+}
+
+impl Grouping {
+    pub fn name(self) -> &'static str {
+        match self {
+            Grouping::Condition => "condition",
+            Grouping::Scene => "scene",
+            Grouping::PointSet => "point_set",
+            Grouping::TimeFilter => "time_filter",
+        }
+    }
+}
+
+/// A group's identity: its grouping and label (`scene/point_set/time_filter` for conditions).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub struct GroupKey {
+    pub grouping: Grouping,
+    pub label: String,
+}
+
+impl GroupKey {
+    /// A stable id for seeding (bootstrap resamples are keyed by it).
+    pub fn id(&self) -> u64 {
+        renderer::hash::name_id(&format!("{}:{}", self.grouping.name(), self.label))
+    }
+}
+
+/// All counts of one group: per subject (indexed like [`Dataset::subjects`]) and pooled.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Group {
+    pub key: GroupKey,
+    /// `per_subject[i]` belongs to `Dataset::subjects[i]` (empty if that subject has none).
+    pub per_subject: Vec<Curve>,
+    pub pooled: Curve,
+}
+
+impl Group {
+    /// Per-subject proportion correct at `level`, for subjects that were tested there.
+    pub fn subject_proportions(&self, level: u32) -> Vec<(usize, f64)> {
+        self.per_subject
+            .iter()
+            .enumerate()
+            .filter_map(|(s, c)| c.at(level).map(|p| (s, p.proportion())))
+            .collect()
+    }
+}
+
+/// Everything the analysis needs from a study's logs.
+#[derive(Clone, Debug, Serialize)]
+pub struct Dataset {
+    pub design: String,
+    pub design_hash: String,
+    /// Sorted subject ids.
+    pub subjects: Vec<String>,
+    /// All tested levels, sorted.
+    pub levels: Vec<u32>,
+    /// Conditions first, then scenes, point sets and time filters; each sorted by label.
+    pub groups: Vec<Group>,
+    /// Files read, sorted.
+    pub files: Vec<PathBuf>,
+    /// Main (non-practice) trials counted.
+    pub trials: usize,
+    /// Tolerated problems reported by the log reader (torn last lines).
+    pub warnings: Vec<String>,
+}
+
+/// One analyzed trial, reduced to what aggregation needs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Observation {
+    pub subject: String,
+    pub scene: String,
+    pub point_set: String,
+    pub time_filter: String,
+    pub level: u32,
+    pub correct: bool,
+}
+
+impl Dataset {
+    /// Read session logs: every `*.jsonl` in a folder, or the given files. Refuses an empty
+    /// selection, mixed designs, unknown formats (the reader) and level 0.
+    pub fn read(inputs: &[PathBuf]) -> Result<Self> {
+        let files = collect_files(inputs)?;
+        let mut logs = Vec::with_capacity(files.len());
+        for f in &files {
+            logs.push(SessionLog::read(f)?);
+        }
+        Self::from_logs(&logs)
+    }
+
+    /// Aggregate already-read logs (see [`Dataset::read`] for the checks).
+    pub fn from_logs(logs: &[SessionLog]) -> Result<Self> {
+        let Some(first) = logs.first() else {
+            bail!("no session logs to analyze");
+        };
+        let mut obs = Vec::new();
+        let mut warnings = Vec::new();
+        for log in logs {
+            if log.header.design_hash != first.header.design_hash {
+                bail!(
+                    "{}: field `design_hash` is {:?} (design {:?}), but {} has {:?} (design {:?}); \
+                     analyze one design at a time",
+                    log.path.display(),
+                    log.header.design_hash,
+                    log.header.design,
+                    first.path.display(),
+                    first.header.design_hash,
+                    first.header.design
+                );
+            }
+            warnings.extend(log.warnings.iter().cloned());
+            for t in log.main_trials() {
+                if t.level == 0 {
+                    bail!(
+                        "{}: trial {}: field `level` is 0; expected samples per pixel >= 1",
+                        log.path.display(),
+                        t.index
+                    );
+                }
+                obs.push(Observation {
+                    subject: log.header.subject.clone(),
+                    scene: t.scene.clone(),
+                    point_set: t.point_set.clone(),
+                    time_filter: t.time_filter.clone(),
+                    level: t.level,
+                    correct: t.correct,
+                });
+            }
+        }
+        if obs.is_empty() {
+            bail!(
+                "the session logs ({} files, first {}) hold no main trials (practice trials are not analyzed)",
+                logs.len(),
+                first.path.display()
+            );
+        }
+        let mut ds = Self::from_observations(&obs);
+        ds.design = first.header.design.clone();
+        ds.design_hash = first.header.design_hash.clone();
+        ds.files = logs.iter().map(|l| l.path.clone()).collect();
+        ds.files.sort();
+        ds.warnings = warnings;
+        Ok(ds)
+    }
+
+    /// Aggregate observations (no file checks; used by tests and simulations too).
+    pub fn from_observations(obs: &[Observation]) -> Self {
+        let mut subjects: Vec<String> = obs.iter().map(|o| o.subject.clone()).collect();
+        subjects.sort();
+        subjects.dedup();
+        let mut levels: Vec<u32> = obs.iter().map(|o| o.level).collect();
+        levels.sort_unstable();
+        levels.dedup();
+        let n_time_filters = distinct(obs.iter().map(|o| &o.time_filter));
+
+        // Condition cells first; the marginal groupings are merged from them.
+        let mut cells: BTreeMap<GroupKey, Vec<Curve>> = BTreeMap::new();
+        for o in obs {
+            let s = subjects.binary_search(&o.subject).unwrap_or(0);
+            let key = GroupKey {
+                grouping: Grouping::Condition,
+                label: format!("{}/{}/{}", o.scene, o.point_set, o.time_filter),
+            };
+            let curves = cells
+                .entry(key)
+                .or_insert_with(|| vec![Curve::default(); subjects.len()]);
+            curves[s].add(o.level, o.correct);
+        }
+        let mut marginals: BTreeMap<GroupKey, Vec<Curve>> = BTreeMap::new();
+        for (key, curves) in &cells {
+            let parts: Vec<&str> = key.label.splitn(3, '/').collect();
+            let mut targets = vec![
+                (Grouping::Scene, parts[0]),
+                (Grouping::PointSet, parts.get(1).copied().unwrap_or("")),
+            ];
+            if n_time_filters > 1 {
+                targets.push((Grouping::TimeFilter, parts.get(2).copied().unwrap_or("")));
+            }
+            for (grouping, label) in targets {
+                let entry = marginals
+                    .entry(GroupKey {
+                        grouping,
+                        label: label.to_string(),
+                    })
+                    .or_insert_with(|| vec![Curve::default(); subjects.len()]);
+                for (acc, c) in entry.iter_mut().zip(curves) {
+                    acc.merge(c);
+                }
+            }
+        }
+        let groups = cells
+            .into_iter()
+            .chain(marginals)
+            .map(|(key, per_subject)| {
+                let mut pooled = Curve::default();
+                for c in &per_subject {
+                    pooled.merge(c);
+                }
+                Group {
+                    key,
+                    per_subject,
+                    pooled,
+                }
+            })
+            .collect();
+        Dataset {
+            design: String::new(),
+            design_hash: String::new(),
+            subjects,
+            levels,
+            groups,
+            files: Vec::new(),
+            trials: obs.len(),
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Groups of one grouping, sorted by label.
+    pub fn groups_of(&self, grouping: Grouping) -> impl Iterator<Item = &Group> {
+        self.groups
+            .iter()
+            .filter(move |g| g.key.grouping == grouping)
+    }
+}
+
+fn distinct<'a>(it: impl Iterator<Item = &'a String>) -> usize {
+    let mut v: Vec<&String> = it.collect();
+    v.sort();
+    v.dedup();
+    v.len()
+}
+
+/// Folders expand to their `*.jsonl` files (not recursive); files are taken as given.
+fn collect_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    if inputs.is_empty() {
+        bail!("no input: give a sessions folder or session log files");
+    }
+    let mut files = Vec::new();
+    for input in inputs {
+        if input.is_dir() {
+            let mut found: Vec<PathBuf> = std::fs::read_dir(input)
+                .map_err(|e| anyhow::anyhow!("cannot list folder {}: {e}", input.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| is_log(p))
+                .collect();
+            if found.is_empty() {
+                bail!("folder {} holds no session logs (*.jsonl)", input.display());
+            }
+            files.append(&mut found);
+        } else if input.is_file() {
+            files.push(input.clone());
+        } else {
+            bail!("input {} does not exist", input.display());
+        }
+    }
+    files.sort();
+    files.dedup();
+    Ok(files)
+}
+
+fn is_log(p: &Path) -> bool {
+    p.is_file() && p.extension().is_some_and(|e| e == "jsonl")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn o(subject: &str, scene: &str, ps: &str, level: u32, correct: bool) -> Observation {
+        Observation {
+            subject: subject.into(),
+            scene: scene.into(),
+            point_set: ps.into(),
+            time_filter: "box".into(),
+            level,
+            correct,
+        }
+    }
+
+    #[test]
+    fn counts_aggregate_per_subject_condition_and_marginals() {
+        let obs = vec![
+            o("b", "plane", "ham", 8, true),
+            o("a", "plane", "ham", 8, false),
+            o("a", "plane", "ham", 8, true),
+            o("a", "plane", "poisson", 8, true),
+            o("a", "spheres", "ham", 27, true),
+        ];
+        let ds = Dataset::from_observations(&obs);
+        assert_eq!(ds.subjects, vec!["a", "b"]);
+        assert_eq!(ds.levels, vec![8, 27]);
+        let cond: Vec<_> = ds.groups_of(Grouping::Condition).collect();
+        assert_eq!(cond.len(), 3);
+        assert_eq!(cond[0].key.label, "plane/ham/box");
+        assert_eq!(cond[0].per_subject[0].at(8).unwrap().correct, 1);
+        assert_eq!(cond[0].per_subject[0].at(8).unwrap().trials, 2);
+        assert_eq!(cond[0].pooled.at(8).unwrap().trials, 3);
+        // Scene "plane" pools both point sets: a has 2 of 3 at 8 spp.
+        let plane = ds
+            .groups_of(Grouping::Scene)
+            .find(|g| g.key.label == "plane")
+            .unwrap();
+        assert_eq!(plane.per_subject[0].at(8).unwrap().correct, 2);
+        assert_eq!(plane.per_subject[0].at(8).unwrap().trials, 3);
+        assert_eq!(plane.pooled.at(8).unwrap().trials, 4);
+        // Point set "ham" pools both scenes.
+        let ham = ds
+            .groups_of(Grouping::PointSet)
+            .find(|g| g.key.label == "ham")
+            .unwrap();
+        assert_eq!(ham.pooled.levels(), vec![8, 27]);
+        // One time filter: no time-filter grouping.
+        assert_eq!(ds.groups_of(Grouping::TimeFilter).count(), 0);
+        assert_eq!(ham.subject_proportions(27), vec![(0, 1.0)]);
+    }
+
+    #[test]
+    fn curve_from_counts_sorts_sums_and_drops_empty_levels() {
+        let c = Curve::from_counts([(27, 3, 4), (8, 4, 4), (27, 1, 4), (64, 0, 0)]);
+        assert_eq!(c.levels(), vec![8, 27]);
+        assert_eq!(c.at(27).unwrap().correct, 4);
+        assert_eq!(c.at(27).unwrap().trials, 8);
+        assert_eq!(c.total_trials(), 12);
+    }
+}

@@ -1,0 +1,221 @@
+//! The just-noticeable difference: the spp where proportion correct falls to the target
+//! (0.75 by default, the thesis's choice: halfway between certain and chance).
+//!
+//! A threshold is never extrapolated: beyond the tested levels it is "below range" or "above
+//! range" with the bound; for a step fit it is the interval between two tested levels.
+
+use crate::data::Curve;
+use crate::psychometric::{Fit, Shape};
+use serde::Serialize;
+
+/// A threshold as the data support it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Threshold {
+    /// Crosses the target at this spp, inside the tested range.
+    Value { spp: f64 },
+    /// A step: the crossing lies between these two tested levels (exclusive of `upper`).
+    Between { lower: u32, upper: u32 },
+    /// Already below the target at the lowest tested level.
+    BelowRange { bound: u32 },
+    /// Still above the target at the highest tested level.
+    AboveRange { bound: u32 },
+    /// No threshold can be read (no data).
+    Undefined { reason: String },
+}
+
+impl Threshold {
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Threshold::Value { .. } => "value",
+            Threshold::Between { .. } => "between",
+            Threshold::BelowRange { .. } => "below_range",
+            Threshold::AboveRange { .. } => "above_range",
+            Threshold::Undefined { .. } => "undefined",
+        }
+    }
+
+    /// A short human reading: "41.3", "27-64", "< 1", "> 512", "undefined (...)".
+    pub fn display(&self) -> String {
+        match self {
+            Threshold::Value { spp } => format!("{spp:.1}"),
+            Threshold::Between { lower, upper } => format!("{lower}-{upper}"),
+            Threshold::BelowRange { bound } => format!("< {bound}"),
+            Threshold::AboveRange { bound } => format!("> {bound}"),
+            Threshold::Undefined { reason } => format!("undefined ({reason})"),
+        }
+    }
+
+    /// The range of ln spp the threshold may occupy, for ordering bootstrap replicates:
+    /// below range is -inf, above range +inf, an interval its two ends.
+    pub fn ln_bounds(&self) -> Option<(f64, f64)> {
+        match self {
+            Threshold::Value { spp } => Some((spp.ln(), spp.ln())),
+            Threshold::Between { lower, upper } => {
+                Some(((*lower as f64).ln(), (*upper as f64).ln()))
+            }
+            Threshold::BelowRange { .. } => Some((f64::NEG_INFINITY, f64::NEG_INFINITY)),
+            Threshold::AboveRange { .. } => Some((f64::INFINITY, f64::INFINITY)),
+            Threshold::Undefined { .. } => None,
+        }
+    }
+}
+
+/// The fitted function's threshold.
+pub fn model_threshold(fit: &Fit, target: f64) -> Threshold {
+    let pts = &fit.curve.points;
+    let (Some(first), Some(last)) = (pts.first(), pts.last()) else {
+        return Threshold::Undefined {
+            reason: "no trials".into(),
+        };
+    };
+    match &fit.shape {
+        Shape::Finite(m) => match m.x_at(target) {
+            Some(x) if x < first.x() => Threshold::BelowRange { bound: first.level },
+            Some(x) if x > last.x() => Threshold::AboveRange { bound: last.level },
+            Some(x) => Threshold::Value { spp: x.exp() },
+            // Unreachable for a validated target (0.5 < target <= 0.9, lapse <= 0.06), kept so
+            // that no number is ever invented.
+            None => Threshold::Undefined {
+                reason: format!("the fitted function never reaches p = {target}"),
+            },
+        },
+        // Steps and single levels: read from the fitted values at the tested levels.
+        Shape::Step(_) | Shape::Unidentified { .. } => {
+            let above: Vec<bool> = fit.fitted.iter().map(|&p| p >= target).collect();
+            let n_above = above.iter().take_while(|&&a| a).count();
+            if n_above == 0 {
+                Threshold::BelowRange { bound: first.level }
+            } else if n_above == pts.len() {
+                Threshold::AboveRange { bound: last.level }
+            } else {
+                Threshold::Between {
+                    lower: pts[n_above - 1].level,
+                    upper: pts[n_above].level,
+                }
+            }
+        }
+    }
+}
+
+/// The thesis's reading: where the empirical curve (observed proportions joined by straight
+/// lines in ln spp) first falls through the target.
+pub fn empirical_threshold(curve: &Curve, target: f64) -> Threshold {
+    let pts = &curve.points;
+    let (Some(first), Some(last)) = (pts.first(), pts.last()) else {
+        return Threshold::Undefined {
+            reason: "no trials".into(),
+        };
+    };
+    if first.proportion() < target {
+        return Threshold::BelowRange { bound: first.level };
+    }
+    for w in pts.windows(2) {
+        let (p0, p1) = (w[0].proportion(), w[1].proportion());
+        if p0 >= target && p1 < target {
+            let f = (p0 - target) / (p0 - p1);
+            let x = w[0].x() + f * (w[1].x() - w[0].x());
+            return Threshold::Value { spp: x.exp() };
+        }
+    }
+    Threshold::AboveRange { bound: last.level }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::psychometric::{FitSettings, Model, fit};
+    use crate::sigmoid::Sigmoid;
+
+    #[test]
+    fn empirical_crossing_interpolates_in_log_spp() {
+        // 0.875 at 27 and 0.625 at 64: the target 0.75 is halfway, at sqrt(27 * 64) spp.
+        let c = Curve::from_counts([(8, 8, 8), (27, 7, 8), (64, 5, 8), (125, 6, 8)]);
+        match empirical_threshold(&c, 0.75) {
+            Threshold::Value { spp } => assert!((spp - (27.0f64 * 64.0).sqrt()).abs() < 1e-9),
+            t => panic!("{t:?}"),
+        }
+        // First crossing counts, even if the curve comes back up.
+        let c = Curve::from_counts([(8, 4, 4), (27, 2, 4), (64, 4, 4)]);
+        assert!(matches!(
+            empirical_threshold(&c, 0.75),
+            Threshold::Value { spp } if (spp - 8f64.powf(0.5) * 27f64.powf(0.5)).abs() < 1e-9
+        ));
+    }
+
+    #[test]
+    fn empirical_out_of_range_is_reported_with_bound() {
+        let all = Curve::from_counts([(8, 4, 4), (27, 4, 4)]);
+        assert_eq!(
+            empirical_threshold(&all, 0.75),
+            Threshold::AboveRange { bound: 27 }
+        );
+        let none = Curve::from_counts([(8, 2, 4), (27, 1, 4)]);
+        assert_eq!(
+            empirical_threshold(&none, 0.75),
+            Threshold::BelowRange { bound: 8 }
+        );
+        assert_eq!(
+            empirical_threshold(&Curve::default(), 0.75).kind(),
+            "undefined"
+        );
+    }
+
+    #[test]
+    fn finite_threshold_is_alpha_for_logistic_at_075_and_never_extrapolated() {
+        let m = Model {
+            sigmoid: Sigmoid::Logistic,
+            alpha: 40f64.ln(),
+            beta: 2.0,
+            lapse: 0.0,
+        };
+        assert!((m.x_at(0.75).unwrap() - 40f64.ln()).abs() < 1e-12);
+        // Weibull (Gumbel form): S(z) = 1/2 at z = ln ln 2, so x = alpha - ln(ln 2)/beta.
+        let w = Model {
+            sigmoid: Sigmoid::Weibull,
+            ..m
+        };
+        assert!((w.x_at(0.75).unwrap() - (40f64.ln() - 2f64.ln().ln() / 2.0)).abs() < 1e-12);
+        // A fit whose threshold would be at 2000 spp with levels up to 512 is "above range".
+        let n = 1_000_000;
+        let far = Model {
+            alpha: 2000f64.ln(),
+            beta: 0.8,
+            ..m
+        };
+        let c = Curve::from_counts(
+            [1u32, 8, 27, 64, 125, 216, 343, 512]
+                .iter()
+                .map(|&l| (l, (far.p((l as f64).ln()) * n as f64).round() as u32, n)),
+        );
+        let f = fit(&c, &FitSettings::default());
+        assert_eq!(
+            model_threshold(&f, 0.75),
+            Threshold::AboveRange { bound: 512 }
+        );
+    }
+
+    #[test]
+    fn step_fits_give_intervals_and_single_levels_give_sides() {
+        let c = Curve::from_counts([(1, 4, 4), (8, 4, 4), (27, 4, 4), (64, 2, 4), (125, 2, 4)]);
+        let f = fit(&c, &FitSettings::default());
+        assert_eq!(f.kind(), "step");
+        assert_eq!(
+            model_threshold(&f, 0.75),
+            Threshold::Between {
+                lower: 27,
+                upper: 64
+            }
+        );
+        let one = fit(&Curve::from_counts([(64, 4, 4)]), &FitSettings::default());
+        assert_eq!(
+            model_threshold(&one, 0.75),
+            Threshold::AboveRange { bound: 64 }
+        );
+        let one = fit(&Curve::from_counts([(64, 2, 4)]), &FitSettings::default());
+        assert_eq!(
+            model_threshold(&one, 0.75),
+            Threshold::BelowRange { bound: 64 }
+        );
+    }
+}
