@@ -4,5 +4,8 @@
 pub mod atomic;
 pub mod cli;
 pub mod hash;
+pub mod export;
 pub mod manifest;
+pub mod metrics;
+pub mod procedural;
 pub mod sampling;

@@ -1,0 +1,44 @@
+//! Assets made by the project's own code: the airliner model and the sky environment maps the
+//! suite's scenes use. `render assets` writes them into `scenes/`; a test checks that the
+//! committed files equal what this code produces.
+
+pub mod airliner;
+pub mod sky;
+
+use anyhow::Result;
+use std::path::{Path, PathBuf};
+
+/// One generated file: its path relative to the scenes folder and its bytes.
+pub struct Asset {
+    pub path: &'static str,
+    pub bytes: Vec<u8>,
+}
+
+/// Every generated asset.
+pub fn assets() -> Result<Vec<Asset>> {
+    Ok(vec![
+        Asset {
+            path: "models/airliner.obj",
+            bytes: airliner::airliner_obj().into_bytes(),
+        },
+        Asset {
+            path: "envmaps/sky_day.hdr",
+            bytes: sky::hdr_bytes(&sky::SkyParams::day())?,
+        },
+        Asset {
+            path: "envmaps/sky_sun.hdr",
+            bytes: sky::hdr_bytes(&sky::SkyParams::bright_sun())?,
+        },
+    ])
+}
+
+/// Write every asset under `scenes_dir` (atomically); returns the written paths.
+pub fn write_assets(scenes_dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    for a in assets()? {
+        let path = scenes_dir.join(a.path);
+        crate::atomic::write_atomic(&path, &a.bytes)?;
+        written.push(path);
+    }
+    Ok(written)
+}
