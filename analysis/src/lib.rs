@@ -1,9 +1,16 @@
 //! From session logs to psychometric fits, JNDs with bootstrap intervals, t-tests and figures
 //! (thesis Chapter V).
 
+pub mod bootstrap;
+pub mod cli;
+pub mod comparisons;
 pub mod data;
+pub mod figures;
 pub mod jnd;
 pub mod optimizer;
 pub mod psychometric;
+pub mod report;
 pub mod sigmoid;
+pub mod simulate;
 pub mod student_t;
+pub mod ttest;

@@ -1,0 +1,51 @@
+//! A thesis-size study (12 subjects x 2 scenes x 3 point sets x 8 levels x 4 repeats) analyzed
+//! end to end in memory: 11 pooled fits with 2000 bootstrap resamples each, 132 per-subject
+//! fits, the t-test families. Figures and files are left out (see docs/benchmarks/analysis.md
+//! for the timed CLI run that includes them).
+
+use analysis::bootstrap::BootstrapSettings;
+use analysis::comparisons::ComparisonSettings;
+use analysis::data::Dataset;
+use analysis::psychometric::{FitSettings, fit};
+use analysis::report::{Settings, analyze};
+use analysis::simulate::StudySpec;
+use analysis::ttest::TestKind;
+use criterion::{Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+
+fn settings(resamples: usize) -> Settings {
+    Settings {
+        fit: FitSettings::default(),
+        target: 0.75,
+        bootstrap: BootstrapSettings {
+            resamples,
+            seed: 1,
+            target: 0.75,
+            confidence: 0.95,
+        },
+        comparisons: ComparisonSettings {
+            kind: TestKind::Paired,
+            levels: vec![27, 64, 125],
+            scene_extra_levels: vec![216],
+            alpha: 0.05,
+        },
+        poor_fit_p: 0.05,
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let ds = Dataset::from_observations(&StudySpec::thesis().observations());
+    let pooled = ds.groups[0].pooled.clone();
+    c.bench_function("fit_pooled_condition", |b| {
+        b.iter(|| fit(black_box(&pooled), &FitSettings::default()))
+    });
+    let mut g = c.benchmark_group("thesis_study");
+    g.sample_size(10);
+    g.bench_function("analyze_2000_resamples", |b| {
+        b.iter(|| analyze(black_box(&ds), &settings(2000)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

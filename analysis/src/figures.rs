@@ -1,0 +1,270 @@
+//! Figures in the thesis's style (Figures 19-25): proportion correct against spp on a log axis,
+//! the mean over subjects with standard-error bars, dashed lines at the target (red) and at
+//! chance (green), the pooled fit, and the JND marked (a triangle at the threshold, or a bar
+//! spanning the interval of a step fit). Per scene, per point set, and overlaid; SVG and PNG.
+//!
+//! PNG text needs a font: the Ubuntu Light face bundled by `epaint_default_fonts` (pure Rust
+//! bytes, the font egui ships) is registered with plotters' ab_glyph backend, so no system font
+//! library is involved. SVG text is left to the viewer's sans-serif.
+
+use crate::data::Grouping;
+use crate::jnd::Threshold;
+use crate::psychometric::Shape;
+use crate::report::{GroupResult, Report};
+use anyhow::{Result, anyhow};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+const SIZE: (u32, u32) = (800, 600);
+const FONT: &str = "sans-serif";
+
+/// Colours of overlaid series (the thesis used blue, red, black-ish lines).
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(23, 190, 207),
+];
+
+fn register_font() -> Result<()> {
+    static ONCE: Once = Once::new();
+    let mut result = Ok(());
+    ONCE.call_once(|| {
+        result = plotters::style::register_font(
+            FONT,
+            FontStyle::Normal,
+            epaint_default_fonts::UBUNTU_LIGHT,
+        )
+        .map_err(|_| anyhow!("the bundled Ubuntu Light font could not be loaded"));
+    });
+    result
+}
+
+/// One figure: a title and the groups it overlays.
+struct Figure<'a> {
+    name: String,
+    title: String,
+    groups: Vec<&'a GroupResult>,
+}
+
+/// Draw every figure into `dir`; returns the figure names (files `<name>.svg` and `.png`).
+pub fn draw_all(report: &Report, dir: &Path) -> Result<Vec<String>> {
+    register_font()?;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| anyhow!("cannot create folder {}: {e}", dir.display()))?;
+    let target = report.settings.target;
+    let mut figures = Vec::new();
+    for (grouping, single, overlaid) in [
+        (Grouping::Scene, "scene", "All scenes"),
+        (Grouping::PointSet, "point_set", "All point sets"),
+        (Grouping::TimeFilter, "time_filter", "All time filters"),
+        (Grouping::Condition, "", "All conditions"),
+    ] {
+        let groups: Vec<&GroupResult> = report
+            .groups
+            .iter()
+            .filter(|g| g.key.grouping == grouping)
+            .collect();
+        if groups.is_empty() {
+            continue;
+        }
+        if !single.is_empty() {
+            for g in &groups {
+                figures.push(Figure {
+                    name: format!("{single}_{}", file_safe(&g.key.label)),
+                    title: format!(
+                        "Psychometric function: {} {}",
+                        single.replace('_', " "),
+                        g.key.label
+                    ),
+                    groups: vec![g],
+                });
+            }
+        }
+        if groups.len() > 1 || single.is_empty() {
+            figures.push(Figure {
+                name: format!("{}_overlaid", grouping.name()),
+                title: overlaid.to_string(),
+                groups,
+            });
+        }
+    }
+    for f in &figures {
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+            draw(&root, f, target)?;
+            root.present().map_err(|e| anyhow!("{e:?}"))?;
+        }
+        renderer::atomic::write_atomic(&dir.join(format!("{}.svg", f.name)), svg.as_bytes())?;
+        let png = dir.join(format!("{}.png", f.name));
+        // plotters picks the encoder from the extension, so the temporary keeps `.png`.
+        let tmp = dir.join(format!(".{}.{}.tmp.png", f.name, std::process::id()));
+        {
+            let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
+            draw(&root, f, target)?;
+            root.present()
+                .map_err(|e| anyhow!("cannot write {}: {e:?}", png.display()))?;
+        }
+        std::fs::rename(&tmp, &png)
+            .map_err(|e| anyhow!("cannot move {} to {}: {e}", tmp.display(), png.display()))?;
+    }
+    Ok(figures.into_iter().map(|f| f.name).collect())
+}
+
+fn file_safe(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow!("drawing failed: {e:?}")
+}
+
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, f: &Figure, target: f64) -> Result<()> {
+    root.fill(&WHITE).map_err(err)?;
+    let levels: Vec<u32> = f
+        .groups
+        .iter()
+        .flat_map(|g| g.levels.iter().map(|l| l.level))
+        .collect();
+    let lo = levels.iter().copied().min().unwrap_or(1).max(1) as f64;
+    let hi = levels.iter().copied().max().unwrap_or(1).max(2) as f64;
+    // A little room either side on the log axis.
+    let (x0, x1) = (lo / 1.5, hi * 1.5);
+    let mut chart = ChartBuilder::on(root)
+        .caption(&f.title, (FONT, 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d((x0..x1).log_scale(), 0.3f64..1.05f64)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("samples per pixel")
+        .y_desc("proportion correct")
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .label_style((FONT, 14))
+        .draw()
+        .map_err(err)?;
+    for (y, colour, label) in [(target, RED, "JND threshold"), (0.5, GREEN, "chance")] {
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(x0, y), (x1, y)],
+                8,
+                5,
+                colour.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(format!("{label} (p = {y})"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
+    }
+    for (i, g) in f.groups.iter().enumerate() {
+        draw_group(&mut chart, g, PALETTE[i % PALETTE.len()], target, (x0, x1))?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, 14))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(err)?;
+    Ok(())
+}
+
+type Chart<'a, DB> = ChartContext<
+    'a,
+    DB,
+    Cartesian2d<
+        plotters::coord::combinators::LogCoord<f64>,
+        plotters::coord::types::RangedCoordf64,
+    >,
+>;
+
+fn draw_group<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    g: &GroupResult,
+    colour: RGBColor,
+    target: f64,
+    (x0, x1): (f64, f64),
+) -> Result<()> {
+    let style = colour.stroke_width(2);
+    // Mean over subjects with standard-error bars.
+    // Error bars drawn as paths (a vertical bar with caps 4% of a decade wide on the log axis).
+    let cap = 10f64.powf(0.02);
+    for l in &g.levels {
+        let Some(e) = l.sem else { continue };
+        let x = l.level as f64;
+        let (y0, y1) = (l.mean - e, l.mean + e);
+        chart
+            .draw_series([
+                PathElement::new(vec![(x, y0), (x, y1)], style),
+                PathElement::new(vec![(x / cap, y0), (x * cap, y0)], style),
+                PathElement::new(vec![(x / cap, y1), (x * cap, y1)], style),
+            ])
+            .map_err(err)?;
+    }
+    chart
+        .draw_series(
+            g.levels
+                .iter()
+                .map(|l| Circle::new((l.level as f64, l.mean), 4, colour.filled())),
+        )
+        .map_err(err)?
+        .label(format!("{} (mean +- SEM)", g.key.label))
+        .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
+    // The pooled fit: the function itself, or for a step its values at the tested levels.
+    let fitted: Vec<(f64, f64)> = match &g.pooled.shape {
+        Shape::Finite(m) => (0..=200)
+            .map(|i| {
+                let x = x0.ln() + (x1.ln() - x0.ln()) * i as f64 / 200.0;
+                (x.exp(), m.p(x))
+            })
+            .collect(),
+        _ => g
+            .pooled
+            .curve
+            .points
+            .iter()
+            .zip(&g.pooled.fitted)
+            .map(|(c, &p)| (c.level as f64, p))
+            .collect(),
+    };
+    chart
+        .draw_series(LineSeries::new(fitted, colour.stroke_width(1)))
+        .map_err(err)?;
+    // The JND.
+    match g.threshold {
+        Threshold::Value { spp } => {
+            chart
+                .draw_series(std::iter::once(TriangleMarker::new(
+                    (spp, target),
+                    8,
+                    colour.filled(),
+                )))
+                .map_err(err)?;
+        }
+        Threshold::Between { lower, upper } => {
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![(lower as f64, target), (upper as f64, target)],
+                    colour.stroke_width(5),
+                )))
+                .map_err(err)?;
+        }
+        _ => {}
+    }
+    Ok(())
+}

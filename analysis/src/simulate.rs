@@ -1,0 +1,270 @@
+//! Test support: binomial responses from known psychometric functions, as counts and as real
+//! session-log files, so the analysis can be checked against a known truth. (The experiment
+//! crate's simulated observers drive the real trial logger; this is a small independent
+//! generator that depends on nothing but the log format.)
+//!
+//! Every response is a pure function of (seed, subject, scene, point set, level, repeat) through
+//! the counter-based hash.
+
+use crate::data::{Curve, LevelCount, Observation};
+use crate::psychometric::Model;
+use crate::sigmoid::Sigmoid;
+use anyhow::Result;
+use experiment::log::{Header, LOG_FORMAT, LogLine, Side, TrialRecord};
+use renderer::hash::{hash, name_id, unit_f64};
+use std::path::{Path, PathBuf};
+
+/// Draw `trials` responses at each level from `model`; `coords` key the random stream.
+pub fn simulate_curve(
+    model: &Model,
+    levels: &[u32],
+    trials: u32,
+    seed: u64,
+    coords: &[u64],
+) -> Curve {
+    let key = hash(seed, coords);
+    Curve {
+        points: levels
+            .iter()
+            .map(|&level| {
+                let p = model.p((level as f64).ln());
+                let correct = (0..trials)
+                    .filter(|&j| unit_f64(hash(key, &[level as u64, j as u64])) < p)
+                    .count() as u32;
+                LevelCount {
+                    level,
+                    correct,
+                    trials,
+                }
+            })
+            .collect(),
+    }
+}
+
+/// A simulated study: every subject sees every scene x point set x level `repeats` times.
+#[derive(Clone, Debug)]
+pub struct StudySpec {
+    pub subjects: usize,
+    /// Scene name and its true pooled threshold (spp at p = 0.75).
+    pub scenes: Vec<(String, f64)>,
+    /// Point-set name and a factor on the threshold.
+    pub point_sets: Vec<(String, f64)>,
+    pub time_filter: String,
+    pub levels: Vec<u32>,
+    pub repeats: u32,
+    /// Logistic slope in 1 / ln spp.
+    pub slope: f64,
+    /// Subjects' thresholds vary by a factor exp(+- spread / 2) (uniform in ln spp).
+    pub spread: f64,
+    /// Practice trials per subject (logged, never analyzed).
+    pub practice: u32,
+    pub seed: u64,
+}
+
+impl StudySpec {
+    /// The thesis's design: 12 subjects, 2 scenes (JND ~40 and ~100 spp), 3 point sets,
+    /// 8 levels, 4 repeats.
+    pub fn thesis() -> Self {
+        StudySpec {
+            subjects: 12,
+            scenes: vec![("plane".into(), 40.0), ("spheres".into(), 100.0)],
+            point_sets: vec![
+                ("hammersley".into(), 1.0),
+                ("poisson".into(), 1.0),
+                ("stratified".into(), 1.0),
+            ],
+            time_filter: "truncated_box".into(),
+            levels: vec![1, 8, 27, 64, 125, 216, 343, 512],
+            repeats: 4,
+            slope: 1.5,
+            spread: 0.6,
+            practice: 3,
+            seed: 2024,
+        }
+    }
+
+    pub fn subject_name(&self, s: usize) -> String {
+        format!("s{:02}", s + 1)
+    }
+
+    /// The true model of one subject in one condition.
+    pub fn model(&self, subject: usize, scene: usize, point_set: usize) -> Model {
+        let offset = self.spread * (unit_f64(hash(self.seed, &[0x5b, subject as u64])) - 0.5);
+        Model {
+            sigmoid: Sigmoid::Logistic,
+            alpha: (self.scenes[scene].1 * self.point_sets[point_set].1).ln() + offset,
+            beta: self.slope,
+            lapse: 0.0,
+        }
+    }
+
+    fn correct(&self, subject: usize, scene: usize, ps: usize, level: u32, rep: u32) -> bool {
+        let p = self.model(subject, scene, ps).p((level as f64).ln());
+        let h = hash(
+            self.seed,
+            &[
+                subject as u64,
+                name_id(&self.scenes[scene].0),
+                name_id(&self.point_sets[ps].0),
+                level as u64,
+                rep as u64,
+            ],
+        );
+        unit_f64(h) < p
+    }
+
+    /// All main trials as observations.
+    pub fn observations(&self) -> Vec<Observation> {
+        let mut out = Vec::new();
+        for s in 0..self.subjects {
+            self.for_each_trial(|sc, ps, level, rep| {
+                out.push(Observation {
+                    subject: self.subject_name(s),
+                    scene: self.scenes[sc].0.clone(),
+                    point_set: self.point_sets[ps].0.clone(),
+                    time_filter: self.time_filter.clone(),
+                    level,
+                    correct: self.correct(s, sc, ps, level, rep),
+                });
+            });
+        }
+        out
+    }
+
+    fn for_each_trial(&self, mut f: impl FnMut(usize, usize, u32, u32)) {
+        for sc in 0..self.scenes.len() {
+            for ps in 0..self.point_sets.len() {
+                for &level in &self.levels {
+                    for rep in 0..self.repeats {
+                        f(sc, ps, level, rep);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Write one `blurlab-session/1` log per subject into `dir` (`<subject>.jsonl`).
+    pub fn write_logs(&self, dir: &Path, design_hash: &str) -> Result<Vec<PathBuf>> {
+        std::fs::create_dir_all(dir)?;
+        let mut paths = Vec::new();
+        for s in 0..self.subjects {
+            let mut lines = vec![LogLine::Header(self.header(s, design_hash))];
+            // Practice trials: at the easiest level, always answered wrongly, so that counting
+            // them by mistake would show.
+            for i in 0..self.practice {
+                lines.push(LogLine::Trial(self.record(
+                    s,
+                    i,
+                    true,
+                    0,
+                    0,
+                    self.levels[0],
+                    false,
+                )));
+            }
+            let mut index = 0;
+            self.for_each_trial(|sc, ps, level, rep| {
+                let c = self.correct(s, sc, ps, level, rep);
+                lines.push(LogLine::Trial(
+                    self.record(s, index, false, sc, ps, level, c),
+                ));
+                index += 1;
+            });
+            let mut text = String::new();
+            for l in &lines {
+                text.push_str(&serde_json::to_string(l)?);
+                text.push('\n');
+            }
+            let path = dir.join(format!("{}.jsonl", self.subject_name(s)));
+            renderer::atomic::write_atomic(&path, text.as_bytes())?;
+            paths.push(path);
+        }
+        Ok(paths)
+    }
+
+    fn header(&self, s: usize, design_hash: &str) -> Header {
+        Header {
+            format: LOG_FORMAT.into(),
+            subject: self.subject_name(s),
+            session: 1,
+            design: "simulated".into(),
+            design_hash: design_hash.into(),
+            seed: self.seed,
+            app_version: format!("analysis-simulate {}", env!("CARGO_PKG_VERSION")),
+            mode: "simulated".into(),
+            started_unix: 0.0,
+            trials_planned: (self.scenes.len() * self.point_sets.len() * self.levels.len()) as u32
+                * self.repeats,
+            display: None,
+            observer: None,
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn record(
+        &self,
+        s: usize,
+        index: u32,
+        practice: bool,
+        sc: usize,
+        ps: usize,
+        level: u32,
+        correct: bool,
+    ) -> TrialRecord {
+        let h = hash(self.seed, &[0x7a, s as u64, index as u64, practice as u64]);
+        let diff_pair = 1 + (h & 1) as u8;
+        let response = if correct { diff_pair } else { 3 - diff_pair };
+        TrialRecord {
+            index,
+            practice,
+            scene: self.scenes[sc].0.clone(),
+            point_set: self.point_sets[ps].0.clone(),
+            time_filter: self.time_filter.clone(),
+            level,
+            test_stimulus: format!("{}-{}-{level}", self.scenes[sc].0, self.point_sets[ps].0),
+            reference_stimulus: format!("{}-reference", self.scenes[sc].0),
+            diff_pair,
+            test_side: if h & 2 == 0 { Side::Left } else { Side::Right },
+            response,
+            correct,
+            rt_ms: 800.0,
+            onsets_ms: vec![],
+            frame_times_ms: vec![],
+            dropped_frames: 0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Dataset;
+
+    #[test]
+    fn logs_round_trip_through_the_reader_without_practice() {
+        let spec = StudySpec {
+            subjects: 2,
+            ..StudySpec::thesis()
+        };
+        let dir = tempfile::tempdir().unwrap();
+        spec.write_logs(dir.path(), "h1").unwrap();
+        let ds = Dataset::read(&[dir.path().to_path_buf()]).unwrap();
+        let direct = Dataset::from_observations(&spec.observations());
+        assert_eq!(ds.groups, direct.groups);
+        assert_eq!(ds.trials, 2 * 2 * 3 * 8 * 4);
+        assert_eq!(ds.design_hash, "h1");
+    }
+
+    #[test]
+    fn simulated_proportions_follow_the_model() {
+        // 20000 trials at p = 0.75: standard error 0.0031; allow 4 sigma.
+        let m = Model {
+            sigmoid: Sigmoid::Logistic,
+            alpha: 40f64.ln(),
+            beta: 2.0,
+            lapse: 0.0,
+        };
+        let c = simulate_curve(&m, &[40], 20_000, 1, &[2]);
+        assert!((c.points[0].proportion() - 0.75).abs() < 4.0 * 0.0031);
+    }
+}
