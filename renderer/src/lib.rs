@@ -4,6 +4,7 @@
 pub mod atomic;
 pub mod cli;
 pub mod hash;
+pub mod job;
 pub mod export;
 pub mod manifest;
 pub mod metrics;

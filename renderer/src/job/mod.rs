@@ -1,0 +1,390 @@
+//! Stimulus jobs (format `blurlab-job/1`): the thesis's batch job description (Figure 12 —
+//! name, sampling levels, point sets, time filters) plus the scenes it applies to, the
+//! reference, the master seed and optional overrides. A job expands into one stimulus per
+//! scene x point set x time filter x level plus one reference per scene ([`expand`]), which
+//! [`runner`] renders into `stimuli/<job>/`, optionally split into shards ([`shard`]).
+
+pub mod expand;
+pub mod frame_record;
+pub mod linear_frame;
+pub mod runner;
+pub mod shard;
+pub mod source;
+
+pub use expand::{StimulusSpec, expand};
+pub use runner::{DryRun, Finalize, RunOptions, RunReport, dry_run_with_sources, run_with_sources};
+pub use shard::Shard;
+
+use crate::sampling::{FrameSampler, SamplingConfig};
+use anyhow::{Context, Result};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The format tag every job file carries.
+pub const JOB_FORMAT: &str = "blurlab-job/1";
+
+/// Frames per unit of work when a job does not say (see [`shard`]).
+pub const DEFAULT_FRAMES_PER_UNIT: u32 = 8;
+
+/// The job file as written on disk.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct JobFile {
+    pub format: String,
+    /// The job's name; also the name of its folder under `stimuli/`.
+    pub name: String,
+    /// Scene files, relative to the job file. A scene's name is its file stem.
+    pub scenes: Vec<String>,
+    /// Sampling levels (samples per pixel) of the test stimuli.
+    pub levels: Vec<u32>,
+    /// Point sets to compare, e.g. `hammersley`, `stratified`, `poisson`.
+    pub point_sets: Vec<String>,
+    /// Time filters, e.g. `truncated_box`.
+    pub time_filters: Vec<String>,
+    /// The high-density reference rendered once per scene.
+    pub reference: ReferenceSpec,
+    /// Master seed; a stimulus's seed is `hash(seed, name_id(stimulus id))`.
+    pub seed: u64,
+    /// Replace these scene settings for every stimulus.
+    #[serde(default, skip_serializing_if = "Overrides::is_empty")]
+    pub overrides: Overrides,
+    /// Frames per unit of work for `--shard` (default 8). Does not change any output.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames_per_unit: Option<u32>,
+}
+
+/// The reference of each scene.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceSpec {
+    /// Samples per pixel; should be well above the highest level.
+    pub spp: u32,
+    /// Point set of the reference (default: the job's first).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point_set: Option<String>,
+    /// Time filter of the reference (default: the job's first). Stimuli with another filter are
+    /// measured against it too, so their error then includes the filters' difference.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_filter: Option<String>,
+}
+
+/// Scene settings a job may replace.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Overrides {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<u32>,
+    /// Number of frames (the first `frames` of the scene's animation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames: Option<u32>,
+    /// Also keep 32-bit float EXR frames of every stimulus (references always keep theirs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exr: Option<bool>,
+}
+
+impl Overrides {
+    fn is_empty(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// One scene of a job.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JobScene {
+    /// The scene file's stem, used in stimulus ids.
+    pub name: String,
+    /// Resolved path of the scene file.
+    pub path: PathBuf,
+}
+
+/// A loaded, validated job.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Job {
+    /// Where the job was loaded from (for messages).
+    pub path: PathBuf,
+    pub name: String,
+    pub scenes: Vec<JobScene>,
+    pub levels: Vec<u32>,
+    pub point_sets: Vec<String>,
+    pub time_filters: Vec<String>,
+    /// The reference's sampling, with defaults filled in.
+    pub reference: SamplingConfig,
+    pub seed: u64,
+    pub overrides: Overrides,
+    pub frames_per_unit: u32,
+}
+
+impl Job {
+    /// Read and validate a job file. Errors name the file, the field and what was expected.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read job file {}", path.display()))?;
+        let file: JobFile = serde_json::from_str(&text)
+            .with_context(|| format!("{}: not a valid job file", path.display()))?;
+        Self::from_file(file, path)
+    }
+
+    /// Validate a parsed job file; scene paths resolve against `path`'s folder.
+    pub fn from_file(f: JobFile, path: &Path) -> Result<Self> {
+        let at = |field: &str, what: String| -> anyhow::Error {
+            anyhow::anyhow!("{}: field `{field}` {what}", path.display())
+        };
+        if f.format != JOB_FORMAT {
+            return Err(at(
+                "format",
+                format!("is {:?}; this version reads {JOB_FORMAT:?}", f.format),
+            ));
+        }
+        check_name(&f.name).map_err(|e| at("name", e))?;
+        if f.scenes.is_empty() {
+            return Err(at(
+                "scenes",
+                "is empty; expected at least one scene file".into(),
+            ));
+        }
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let mut scenes: Vec<JobScene> = Vec::new();
+        for (i, s) in f.scenes.iter().enumerate() {
+            let p = dir.join(s);
+            if !p.is_file() {
+                return Err(at(
+                    &format!("scenes[{i}]"),
+                    format!("names {s:?}, but {} is not a file", p.display()),
+                ));
+            }
+            let name = p
+                .file_stem()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            check_name(&name).map_err(|e| at(&format!("scenes[{i}]"), format!("{s:?}: {e}")))?;
+            if scenes.iter().any(|o| o.name == name) {
+                return Err(at(
+                    &format!("scenes[{i}]"),
+                    format!("repeats the scene name {name:?}; scene file stems must differ"),
+                ));
+            }
+            scenes.push(JobScene { name, path: p });
+        }
+        check_list("levels", &f.levels, |&l| {
+            (l == 0).then(|| "is 0; expected samples per pixel >= 1".to_string())
+        })
+        .map_err(|(field, e)| at(&field, e))?;
+        for (field, list) in [
+            ("point_sets", &f.point_sets),
+            ("time_filters", &f.time_filters),
+        ] {
+            check_list(field, list, |n| check_name(n).err()).map_err(|(fl, e)| at(&fl, e))?;
+        }
+        let reference = SamplingConfig {
+            point_set: f
+                .reference
+                .point_set
+                .clone()
+                .unwrap_or_else(|| f.point_sets[0].clone()),
+            spp: f.reference.spp,
+            time_filter: f
+                .reference
+                .time_filter
+                .clone()
+                .unwrap_or_else(|| f.time_filters[0].clone()),
+        };
+        if let Some(max) = f.levels.iter().max().filter(|&&m| reference.spp <= m) {
+            return Err(at(
+                "reference.spp",
+                format!(
+                    "is {}; expected more than the highest level ({max})",
+                    reference.spp
+                ),
+            ));
+        }
+        // The sampler is the authority on point set and filter names and on constraints such
+        // as cube counts for stratified sampling.
+        check_sampling(&reference).map_err(|e| at("reference", e))?;
+        for (i, ps) in f.point_sets.iter().enumerate() {
+            for tf in &f.time_filters {
+                for &spp in &f.levels {
+                    let cfg = SamplingConfig {
+                        point_set: ps.clone(),
+                        spp,
+                        time_filter: tf.clone(),
+                    };
+                    check_sampling(&cfg).map_err(|e| {
+                        at(
+                            &format!("point_sets[{i}]"),
+                            format!("with time filter {tf:?} at {spp} spp: {e}"),
+                        )
+                    })?;
+                }
+            }
+        }
+        let o = &f.overrides;
+        for (field, v) in [
+            ("overrides.width", o.width),
+            ("overrides.height", o.height),
+            ("overrides.frames", o.frames),
+        ] {
+            if v == Some(0) {
+                return Err(at(field, "is 0; expected at least 1".into()));
+            }
+        }
+        if f.frames_per_unit == Some(0) {
+            return Err(at("frames_per_unit", "is 0; expected at least 1".into()));
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            name: f.name,
+            scenes,
+            levels: f.levels,
+            point_sets: f.point_sets,
+            time_filters: f.time_filters,
+            reference,
+            seed: f.seed,
+            overrides: f.overrides,
+            frames_per_unit: f.frames_per_unit.unwrap_or(DEFAULT_FRAMES_PER_UNIT),
+        })
+    }
+
+    /// Whether every stimulus keeps EXR frames.
+    pub fn keep_exr(&self) -> bool {
+        self.overrides.exr.unwrap_or(false)
+    }
+}
+
+/// Names become folder names and parts of ids split on `-`: letters, digits and `_` only.
+fn check_name(name: &str) -> std::result::Result<(), String> {
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(format!(
+            "is {name:?}; expected a non-empty name of ASCII letters, digits and `_`"
+        ));
+    }
+    Ok(())
+}
+
+/// A non-empty list without repeats whose items pass `bad` (which explains a failure).
+fn check_list<T: PartialEq + std::fmt::Debug>(
+    field: &str,
+    list: &[T],
+    bad: impl Fn(&T) -> Option<String>,
+) -> std::result::Result<(), (String, String)> {
+    if list.is_empty() {
+        return Err((field.into(), "is empty; expected at least one entry".into()));
+    }
+    for (i, v) in list.iter().enumerate() {
+        if let Some(e) = bad(v) {
+            return Err((format!("{field}[{i}]"), e));
+        }
+        if list[..i].contains(v) {
+            return Err((format!("{field}[{i}]"), format!("repeats {v:?}")));
+        }
+    }
+    Ok(())
+}
+
+fn check_sampling(cfg: &SamplingConfig) -> std::result::Result<(), String> {
+    FrameSampler::new(cfg, 0, 0)
+        .map(|_| ())
+        .map_err(|e| format!("{e:#}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn job_text() -> String {
+        r#"{
+          "format": "blurlab-job/1",
+          "name": "t",
+          "scenes": ["a.json", "b.json"],
+          "levels": [1, 8, 27],
+          "point_sets": ["random", "hammersley"],
+          "time_filters": ["box"],
+          "reference": {"spp": 64},
+          "seed": 7
+        }"#
+        .to_string()
+    }
+
+    fn setup(text: &str) -> (tempfile::TempDir, PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("a.json"), "{}").unwrap();
+        std::fs::write(dir.path().join("b.json"), "{}").unwrap();
+        let p = dir.path().join("job.json");
+        std::fs::write(&p, text).unwrap();
+        (dir, p)
+    }
+
+    #[test]
+    fn loads_and_fills_reference_defaults() {
+        let (_d, p) = setup(&job_text());
+        let job = Job::load(&p).unwrap();
+        assert_eq!(job.scenes[1].name, "b");
+        assert_eq!(job.reference.point_set, "random");
+        assert_eq!(job.reference.time_filter, "box");
+        assert_eq!(job.frames_per_unit, DEFAULT_FRAMES_PER_UNIT);
+    }
+
+    fn error_of(text: &str) -> String {
+        let (_d, p) = setup(text);
+        format!("{:#}", Job::load(&p).unwrap_err())
+    }
+
+    #[test]
+    fn errors_name_file_and_field() {
+        let cases = [
+            (
+                "\"levels\": [1, 8, 27]",
+                "\"levels\": [1, 0]",
+                "`levels[1]`",
+            ),
+            ("\"levels\": [1, 8, 27]", "\"levels\": []", "`levels`"),
+            ("\"name\": \"t\"", "\"name\": \"a/b\"", "`name`"),
+            (
+                "\"a.json\", \"b.json\"",
+                "\"a.json\", \"c.json\"",
+                "`scenes[1]`",
+            ),
+            (
+                "\"a.json\", \"b.json\"",
+                "\"a.json\", \"a.json\"",
+                "`scenes[1]`",
+            ),
+            ("{\"spp\": 64}", "{\"spp\": 27}", "`reference.spp`"),
+            ("blurlab-job/1", "blurlab-job/2", "`format`"),
+            ("\"box\"]", "\"box\", \"box\"]", "`time_filters[1]`"),
+        ];
+        for (from, to, field) in cases {
+            let text = job_text().replacen(from, to, 1);
+            assert_ne!(text, job_text(), "{from}");
+            let e = error_of(&text);
+            assert!(e.contains("job.json") && e.contains(field), "{field}: {e}");
+        }
+    }
+
+    #[test]
+    fn unknown_fields_and_missing_fields_are_reported() {
+        let e = error_of(&job_text().replace("\"seed\": 7", "\"sed\": 7"));
+        assert!(e.contains("job.json") && e.contains("sed"), "{e}");
+    }
+
+    #[test]
+    fn point_set_names_follow_the_sampler() {
+        // The job accepts exactly what the sampler accepts, and names the field when not.
+        let cfg = SamplingConfig {
+            point_set: "no_such_set".into(),
+            spp: 8,
+            time_filter: "box".into(),
+        };
+        let sampler_ok = FrameSampler::new(&cfg, 0, 0).is_ok();
+        let text = job_text().replace("\"hammersley\"", "\"no_such_set\"");
+        let (_d, p) = setup(&text);
+        match Job::load(&p) {
+            Ok(_) => assert!(sampler_ok),
+            Err(e) => {
+                assert!(!sampler_ok);
+                assert!(format!("{e:#}").contains("`point_sets[1]`"), "{e:#}");
+            }
+        }
+    }
+}
