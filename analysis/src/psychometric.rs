@@ -324,17 +324,18 @@ pub fn fit_with(curve: &Curve, settings: &FitSettings, warm: Option<&Model>) -> 
     }
     let data = Data::new(curve);
     let space = Space::new(&data, settings.sigmoid, settings.lapse);
+    // (start, initial simplex edge): a warm start is near the optimum, so a small simplex.
     let mut starts = Vec::new();
     if let Some(m) = warm {
-        starts.push(space.coords(m.alpha, m.beta, m.lapse));
+        starts.push((space.coords(m.alpha, m.beta, m.lapse), 0.25));
     }
     let defaults = default_starts(curve, &space);
     let n_default = if warm.is_some() { 1 } else { defaults.len() };
-    starts.extend(defaults.into_iter().take(n_default));
+    starts.extend(defaults.into_iter().take(n_default).map(|s| (s, 0.7)));
 
     let mut best: Option<([f64; 3], f64)> = None;
-    for s in starts {
-        let (u, v) = minimise(&data, &space, s, 0.7);
+    for (s, edge) in starts {
+        let (u, v) = minimise(&data, &space, s, edge);
         if best.is_none_or(|b| v < b.1) {
             best = Some((u, v));
         }

@@ -1,0 +1,185 @@
+//! The `analyze` command on real log files: a thesis-size simulated study end to end, and the
+//! refusals (mixed designs, corrupt lines, unknown formats, empty input).
+
+use analysis::cli::{AnalyzeArgs, run};
+use analysis::psychometric::LapseMode;
+use analysis::sigmoid::Sigmoid;
+use analysis::simulate::StudySpec;
+use analysis::ttest::TestKind;
+use std::path::{Path, PathBuf};
+
+fn args(inputs: Vec<PathBuf>, out: &Path) -> AnalyzeArgs {
+    AnalyzeArgs {
+        inputs,
+        out: out.to_path_buf(),
+        target: 0.75,
+        sigmoid: Sigmoid::Logistic,
+        lapse: LapseMode::Fixed,
+        bootstrap: 1000,
+        seed: 5,
+        levels: vec![27, 64, 125],
+        scene_levels: vec![216],
+        test: TestKind::Paired,
+        alpha: 0.05,
+    }
+}
+
+#[test]
+fn thesis_size_study_produces_every_report_file_without_nan() {
+    let dir = tempfile::tempdir().unwrap();
+    let sessions = dir.path().join("sessions");
+    let out = dir.path().join("report");
+    StudySpec::thesis()
+        .write_logs(&sessions, "design-1")
+        .unwrap();
+    run(args(vec![sessions], &out)).unwrap();
+
+    for f in [
+        "jnd.csv",
+        "fits.csv",
+        "ttests.csv",
+        "report.json",
+        "report.md",
+    ] {
+        let text = std::fs::read_to_string(out.join(f)).unwrap();
+        let lower = text.to_lowercase();
+        assert!(
+            !lower.contains("nan") && !lower.contains("inf,"),
+            "{f} has NaN/inf"
+        );
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(json["format"], "blurlab-report/1");
+    // 6 conditions + 2 scenes + 3 point sets pooled, each with 12 subjects.
+    assert_eq!(json["jnd"].as_array().unwrap().len(), 11 * 13);
+    // Tables 1 and 2: 1 scene pair x 4 levels, 3 point-set pairs x 3 levels.
+    let tests = json["ttests"].as_array().unwrap();
+    assert_eq!(tests.len(), 4 + 9);
+    // Every paired test pairs the 12 subjects, df = 11.
+    assert!(tests.iter().all(|t| t["df"] == 11.0), "{tests:?}");
+
+    // The plane scene's pooled JND: the simulation's threshold is 40 spp per point set with
+    // subject offsets of +-30% (uniform in ln spp), so the pooled threshold is near 40; the
+    // interval must hold it and be a finite range inside the tested levels.
+    let plane = json["jnd"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["grouping"] == "scene" && r["label"] == "plane" && r["subject"] == "pooled")
+        .unwrap();
+    let lo = plane["ci_lower_spp"].as_f64().unwrap();
+    let hi = plane["ci_upper_spp"].as_f64().unwrap();
+    let jnd = plane["threshold_spp"].as_f64().unwrap();
+    assert!(lo < jnd && jnd < hi && 8.0 < lo && hi < 216.0, "{plane}");
+    // The spheres scene (100 spp) is harder to tell from the reference than the plane (40 spp):
+    // the simulated per-subject difference in proportion correct is 0.12-0.17 at 27, 64 and
+    // 125 spp with a subject-level SD of about 0.19 (12 trials per subject and level), so each
+    // t has an expected value near -3: the sign must come out negative at all three levels
+    // (each wrong with probability ~0.1%), and at least one must reach p < 0.05.
+    let scene_rows: Vec<_> = tests
+        .iter()
+        .filter(|t| t["family"] == "scene" && [27, 64, 125].contains(&t["level"].as_u64().unwrap()))
+        .collect();
+    assert!(
+        scene_rows.iter().all(|t| t["t"].as_f64().unwrap() < 0.0),
+        "{scene_rows:?}"
+    );
+    assert!(
+        scene_rows.iter().any(|t| t["significant"] == true),
+        "{scene_rows:?}"
+    );
+
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("Between scenes (thesis Table 1)"));
+    for fig in [
+        "scene_plane",
+        "point_set_hammersley",
+        "scene_overlaid",
+        "point_set_overlaid",
+    ] {
+        let svg = std::fs::read_to_string(out.join(format!("figures/{fig}.svg"))).unwrap();
+        assert!(svg.contains("<svg"), "{fig}");
+        let png = std::fs::read(out.join(format!("figures/{fig}.png"))).unwrap();
+        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n", "{fig}");
+        assert!(md.contains(&format!("figures/{fig}.svg")));
+    }
+    // No temporary files left behind.
+    for e in std::fs::read_dir(out.join("figures")).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(!name.starts_with('.'), "{name}");
+    }
+}
+
+#[test]
+fn mixed_designs_are_refused_naming_both_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = StudySpec {
+        subjects: 1,
+        ..StudySpec::thesis()
+    };
+    let a = spec.write_logs(&dir.path().join("a"), "hash-a").unwrap();
+    let b = spec.write_logs(&dir.path().join("b"), "hash-b").unwrap();
+    let err = run(args(
+        vec![a[0].clone(), b[0].clone()],
+        &dir.path().join("out"),
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("design_hash") && err.contains("hash-a") && err.contains("hash-b"),
+        "{err}"
+    );
+    assert!(
+        err.contains("a/s01.jsonl") && err.contains("b/s01.jsonl"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out/jnd.csv").exists());
+}
+
+#[test]
+fn corrupt_lines_and_unknown_formats_are_reported_with_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = StudySpec {
+        subjects: 1,
+        ..StudySpec::thesis()
+    };
+    let logs = spec.write_logs(dir.path(), "h").unwrap();
+    let text = std::fs::read_to_string(&logs[0]).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    lines[5] = "{\"kind\":\"trial\",\"index\":oops}";
+    std::fs::write(&logs[0], lines.join("\n") + "\n").unwrap();
+    let err = run(args(logs.clone(), &dir.path().join("out")))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("s01.jsonl:6"), "{err}");
+
+    let unknown = text.replacen("blurlab-session/1", "blurlab-session/9", 1);
+    std::fs::write(&logs[0], unknown).unwrap();
+    let err = format!(
+        "{:#}",
+        run(args(logs, &dir.path().join("out"))).unwrap_err()
+    );
+    assert!(
+        err.contains("blurlab-session/9") && err.contains("format"),
+        "{err}"
+    );
+}
+
+#[test]
+fn empty_inputs_and_bad_settings_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let err = run(args(
+        vec![dir.path().to_path_buf()],
+        &dir.path().join("out"),
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("no session logs"), "{err}");
+    let mut a = args(vec![dir.path().to_path_buf()], &dir.path().join("out"));
+    a.target = 0.5;
+    assert!(run(a).unwrap_err().to_string().contains("--target"));
+    let mut a = args(vec![dir.path().to_path_buf()], &dir.path().join("out"));
+    a.bootstrap = 10;
+    assert!(run(a).unwrap_err().to_string().contains("--bootstrap"));
+}
