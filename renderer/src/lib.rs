@@ -3,6 +3,7 @@
 
 pub mod atomic;
 pub mod cli;
+pub mod convergence;
 pub mod hash;
 pub mod job;
 pub mod export;
