@@ -630,4 +630,32 @@ mod tests {
         assert!(f.deviance > 10.0, "{}", f.deviance);
         assert!(f.fitted.iter().all(|p| (0.5..=1.0).contains(p)));
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// Subject-sized data (0-4 of 4 per level, 1-8 thesis levels), every sigmoid and lapse
+        /// mode: everything finite, fitted values inside the model's range, deviance >= 0, and
+        /// a numeric threshold only inside the tested levels.
+        #[test]
+        fn subject_sized_data_never_gives_nonsense(
+            ks in proptest::collection::vec(0u32..=4, 1..=8),
+            sig in 0usize..3,
+            free in proptest::bool::ANY,
+        ) {
+            let c = curve(&THESIS[..ks.len()], &ks, 4);
+            let settings = FitSettings {
+                sigmoid: [Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal][sig],
+                lapse: if free { LapseMode::Free } else { LapseMode::Fixed },
+            };
+            let f = fit(&c, &settings);
+            proptest::prop_assert!(f.log_likelihood.is_finite() && f.log_likelihood <= 0.0);
+            proptest::prop_assert!(f.deviance.is_finite() && f.deviance >= 0.0);
+            proptest::prop_assert!(f.fitted.iter().all(|p| (0.5..=1.0).contains(p)));
+            let (_, _, ll_step) = best_step(&c, settings.lapse);
+            proptest::prop_assert!(f.log_likelihood >= ll_step - 1e-9);
+            if let crate::jnd::Threshold::Value { spp } = crate::jnd::model_threshold(&f, 0.75) {
+                proptest::prop_assert!(spp >= 1.0 && spp <= THESIS[ks.len() - 1] as f64);
+            }
+        }
+    }
 }
