@@ -1,14 +1,29 @@
 //! The `render` command line. Each subcommand lives in its own file; the binary and the
 //! umbrella command both call [`run`].
 
+pub mod assets;
+pub mod export;
+pub mod report;
+
 use anyhow::Result;
 use clap::Subcommand;
 
 /// Renderer subcommands.
 #[derive(Debug, Subcommand)]
-pub enum RenderCommand {}
+pub enum RenderCommand {
+    /// Error against spp and render time of a rendered job: CSV and log-log plots.
+    Report(report::ReportArgs),
+    /// Stimuli of a rendered job as videos (Y4M; FFV1 or H.264 through ffmpeg).
+    Export(export::ExportArgs),
+    /// Regenerate the procedural models and environment maps under scenes/.
+    Assets(assets::AssetsArgs),
+}
 
 /// Run one renderer subcommand.
 pub fn run(cmd: RenderCommand) -> Result<()> {
-    match cmd {}
+    match cmd {
+        RenderCommand::Report(a) => report::run(a),
+        RenderCommand::Export(a) => export::run(a),
+        RenderCommand::Assets(a) => assets::run(a),
+    }
 }

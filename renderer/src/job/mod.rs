@@ -9,6 +9,7 @@ pub mod frame_record;
 pub mod linear_frame;
 pub mod runner;
 pub mod shard;
+pub mod slurm;
 pub mod source;
 
 pub use expand::{StimulusSpec, expand};

@@ -1,0 +1,20 @@
+//! `render assets`: regenerate the procedural models and environment maps under `scenes/`.
+
+use anyhow::Result;
+use clap::Args;
+use std::path::PathBuf;
+
+/// Write scenes/models/airliner.obj and scenes/envmaps/*.hdr from the procedural generators.
+#[derive(Debug, Args)]
+pub struct AssetsArgs {
+    /// The scenes folder.
+    #[arg(long, default_value = "scenes")]
+    pub scenes: PathBuf,
+}
+
+pub fn run(args: AssetsArgs) -> Result<()> {
+    for p in crate::procedural::write_assets(&args.scenes)? {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
