@@ -77,9 +77,13 @@ pub struct Overrides {
     pub width: Option<u32>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub height: Option<u32>,
-    /// Number of frames (the first `frames` of the scene's animation).
+    /// Number of frames (from `first_frame` on).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frames: Option<u32>,
+    /// The scene frame that becomes the stimulus's frame 0 (default 0): a short stimulus can
+    /// show the middle of a long animation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_frame: Option<u32>,
     /// Also keep 32-bit float EXR frames of every stimulus (references always keep theirs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exr: Option<bool>,

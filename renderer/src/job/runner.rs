@@ -86,6 +86,8 @@ struct StimulusStamp {
     seed: u64,
     width: u32,
     height: u32,
+    /// Scene frame shown as frame 0.
+    first_frame: u32,
 }
 
 /// The job, expanded and sized.
@@ -204,6 +206,7 @@ fn stamp_stimuli(job: &Job, plan: &Plan, job_dir: &Path) -> Result<()> {
             seed: spec.seed,
             width: setup.width,
             height: setup.height,
+            first_frame: job.overrides.first_frame.unwrap_or(0),
         };
         let path = stimulus_dir(job_dir, spec).join("stimulus.json");
         if let Ok(text) = std::fs::read(&path) {
