@@ -3,6 +3,7 @@
 
 pub mod assets;
 pub mod export;
+pub mod job;
 pub mod report;
 
 use anyhow::Result;
@@ -11,6 +12,8 @@ use clap::Subcommand;
 /// Renderer subcommands.
 #[derive(Debug, Subcommand)]
 pub enum RenderCommand {
+    /// Render a stimulus job (scenes/jobs/*.json) into stimuli/<job>/: resumable, shardable.
+    Job(job::JobArgs),
     /// Error against spp and render time of a rendered job: CSV and log-log plots.
     Report(report::ReportArgs),
     /// Stimuli of a rendered job as videos (Y4M; FFV1 or H.264 through ffmpeg).
@@ -22,6 +25,7 @@ pub enum RenderCommand {
 /// Run one renderer subcommand.
 pub fn run(cmd: RenderCommand) -> Result<()> {
     match cmd {
+        RenderCommand::Job(a) => job::run(a),
         RenderCommand::Report(a) => report::run(a),
         RenderCommand::Export(a) => export::run(a),
         RenderCommand::Assets(a) => assets::run(a),

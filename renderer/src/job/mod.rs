@@ -8,12 +8,14 @@ pub mod expand;
 pub mod frame_record;
 pub mod linear_frame;
 pub mod runner;
+pub mod scene_source;
 pub mod shard;
 pub mod slurm;
 pub mod source;
 
 pub use expand::{StimulusSpec, expand};
 pub use runner::{DryRun, Finalize, RunOptions, RunReport, dry_run_with_sources, run_with_sources};
+pub use scene_source::{dry_run, run};
 pub use shard::Shard;
 
 use crate::sampling::{FrameSampler, SamplingConfig};

@@ -55,6 +55,8 @@ pub struct SyntheticSource {
     pub setup: FrameSetup,
     /// Pixels the pattern moves per frame.
     pub speed: f32,
+    /// Animation frame rendered as frame 0.
+    pub first_frame: u32,
 }
 
 impl SyntheticSource {
@@ -67,6 +69,7 @@ impl SyntheticSource {
                 fps: 30.0,
             },
             speed: 3.0,
+            first_frame: 0,
         }
     }
 
@@ -91,6 +94,7 @@ impl FrameSource for SyntheticSource {
     }
 
     fn render(&self, sampling: &SamplingConfig, seed: u64, frame: u32) -> Result<RenderedFrame> {
+        let frame = self.first_frame + frame;
         let sampler = FrameSampler::new(sampling, seed, frame)?;
         let (w, h) = (self.setup.width, self.setup.height);
         let mut linear = Vec::with_capacity((w * h) as usize);

@@ -1,0 +1,130 @@
+//! `render job <job.json>`: render a stimulus set (or one shard of it), finalize it, estimate
+//! it, or write a Slurm job-array script for it.
+
+use crate::job::slurm::{SlurmOptions, script};
+use crate::job::{Finalize, Job, RunOptions, Shard};
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use std::path::{Path, PathBuf};
+
+/// Render every stimulus of a job into <out>/<job name>/ (resumable; rerun to finish).
+#[derive(Debug, Args)]
+pub struct JobArgs {
+    /// The job file (format blurlab-job/1), e.g. scenes/jobs/demo.json.
+    pub job: PathBuf,
+    /// Root folder of stimulus sets.
+    #[arg(long, default_value = "stimuli")]
+    pub out: PathBuf,
+    /// Render only part K of N (K = 1..N); the union of all parts equals a single run.
+    #[arg(long)]
+    pub shard: Option<Shard>,
+    /// Render nothing; measure what is left and write the manifest (all frames must exist).
+    #[arg(long, conflicts_with_all = ["no_finalize", "dry_run"])]
+    pub finalize: bool,
+    /// Do not write the manifest even if this run completes the job.
+    #[arg(long)]
+    pub no_finalize: bool,
+    /// Print the number of stimuli, frames and samples and an estimated time, render nothing.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// Write a Slurm job-array script to this path instead of rendering.
+    #[arg(long, value_name = "SCRIPT")]
+    pub emit_slurm: Option<PathBuf>,
+    /// Number of array tasks (shards) for --emit-slurm.
+    #[arg(long, default_value_t = 16)]
+    pub shards: u32,
+    /// CPUs per array task for --emit-slurm.
+    #[arg(long, default_value_t = 4)]
+    pub cpus_per_task: u32,
+    /// Hide the progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+pub fn run(args: JobArgs) -> Result<()> {
+    let job = Job::load(&args.job)?;
+    let shard = args.shard.unwrap_or(Shard::WHOLE);
+    if let Some(path) = &args.emit_slurm {
+        return emit_slurm(&job, &args, path);
+    }
+    if args.dry_run {
+        print!("{}", crate::job::dry_run(&job, shard)?);
+        return Ok(());
+    }
+    let opts = RunOptions {
+        out_dir: args.out.clone(),
+        shard,
+        progress: !args.no_progress,
+        finalize: if args.finalize {
+            Finalize::Only
+        } else if args.no_finalize {
+            Finalize::Never
+        } else {
+            Finalize::Auto
+        },
+    };
+    let report = crate::job::run(&job, &opts)?;
+    println!(
+        "{}: rendered {} frames, {} already done, {} missing in the job",
+        report.job_dir.display(),
+        report.frames_rendered,
+        report.frames_skipped,
+        report.frames_missing
+    );
+    match &report.manifest {
+        Some(m) => println!(
+            "wrote {} ({} stimuli)",
+            crate::manifest::manifest_file(&report.job_dir).display(),
+            m.stimuli.len()
+        ),
+        None if report.frames_missing > 0 => println!(
+            "manifest not written yet: other shards still have frames to render; finish with \
+             `render job {} --out {} --finalize`",
+            args.job.display(),
+            args.out.display()
+        ),
+        None => {}
+    }
+    Ok(())
+}
+
+fn emit_slurm(job: &Job, args: &JobArgs, path: &Path) -> Result<()> {
+    if args.shards == 0 {
+        bail!("--shards must be at least 1");
+    }
+    // A time limit per task from the calibration estimate, with a 2x margin for slower nodes
+    // and imbalance.
+    let per_task = crate::job::dry_run(
+        job,
+        Shard {
+            index: 1,
+            count: args.shards,
+        },
+    )?
+    .estimated_shard_seconds;
+    let exe = std::env::current_exe().context("cannot locate this program")?;
+    let mut command = vec![exe.display().to_string()];
+    if exe.file_stem().is_some_and(|s| s != "render") {
+        command.push("render".into()); // the umbrella binary: `blurlab render job ...`
+    }
+    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let text = script(
+        &job.name,
+        &abs(&args.job),
+        &abs(&args.out),
+        &SlurmOptions {
+            command,
+            shards: args.shards,
+            cpus_per_task: args.cpus_per_task,
+            time_limit_seconds: (2.0 * per_task).ceil() as u64 + 600,
+        },
+    );
+    crate::atomic::write_atomic(path, text.as_bytes())?;
+    println!(
+        "wrote {} ({} array tasks); submit with: sbatch {}",
+        path.display(),
+        args.shards,
+        path.display()
+    );
+    Ok(())
+}
