@@ -260,6 +260,21 @@ impl Axis {
     }
 }
 
+/// A tick label with three significant digits and no trailing zeros (log axes otherwise show
+/// values like 0.7000000001).
+fn tick(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return "0".into();
+    }
+    let decimals = (2.0 - v.abs().log10().floor()).max(0.0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -350,6 +365,8 @@ where
         .configure_mesh()
         .x_desc(x_label)
         .y_desc("RMSE (linear HDR)")
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .label_style((FONT, 14))
         .axis_desc_style((FONT, 16))
         .draw()
@@ -401,6 +418,14 @@ where
 mod tests {
     use super::*;
     use crate::manifest::ErrorMetrics;
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(tick(0.700_000_000_1), "0.7");
+        assert_eq!(tick(1.0), "1");
+        assert_eq!(tick(125.0), "125");
+        assert_eq!(tick(0.001_234_5), "0.00123");
+    }
 
     #[test]
     fn slope_of_a_power_law_is_its_exponent() {
