@@ -1,0 +1,266 @@
+//! Primary + shadow rays per second through the tracing core, next to bare obvhs on the same
+//! rays (its own triangle test, one BVH in world space, no instancing, no motion).
+//!
+//! Scene: a 200k-triangle torus above a ground; 256x256 jittered pinhole rays, one shadow ray
+//! toward a directional light per hit. Run:
+//! `CARGO_TARGET_DIR=/work/target-release cargo bench -p renderer --bench trace`
+//! (results: `docs/benchmarks/renderer-trace.md`).
+
+use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
+use glam::{Vec2, Vec3, Vec3A};
+use obvhs::BvhBuildParams;
+use obvhs::bvh2::{Bvh2, builder::build_bvh2_from_tris};
+use obvhs::cwbvh::{CwBvh, builder::build_cwbvh_from_tris};
+use obvhs::ray::RayHit;
+use obvhs::triangle::Triangle;
+use rayon::prelude::*;
+use renderer::accel::{Instance, World};
+use renderer::geometry::tessellate::torus;
+use renderer::geometry::{Plane, Ray, Shape, TriangleMesh};
+use renderer::hash::{hash, unit_f32};
+use renderer::motion::{Motion, MotionLayer};
+use std::hint::black_box;
+use std::sync::Arc;
+use std::time::Duration;
+
+const SIZE: u32 = 256;
+const SHUTTER: (f32, f32) = (0.0, 0.12);
+
+struct Setup {
+    mesh: Arc<TriangleMesh>,
+    location: Vec3,
+    light: Vec3A,
+    eye: Vec3A,
+    /// World-space triangles of the torus and the ground, for bare obvhs.
+    triangles: Vec<Triangle>,
+}
+
+fn setup() -> Setup {
+    // 500 x 200 x 2 = 200k triangles.
+    let mesh = Arc::new(torus(3.0, 1.0, 500, 200));
+    let location = Vec3::new(0.0, 1.2, 0.0);
+    let offset = Vec3A::from(location);
+    let mut triangles: Vec<Triangle> = (0..mesh.triangle_count())
+        .map(|i| {
+            let [v0, v1, v2] = mesh.corners(i);
+            Triangle {
+                v0: v0 + offset,
+                v1: v1 + offset,
+                v2: v2 + offset,
+            }
+        })
+        .collect();
+    let g = [(-50.0, -50.0), (50.0, -50.0), (50.0, 50.0), (-50.0, 50.0)]
+        .map(|(x, z)| Vec3A::new(x, 0.0, z));
+    triangles.push(Triangle {
+        v0: g[0],
+        v1: g[2],
+        v2: g[1],
+    });
+    triangles.push(Triangle {
+        v0: g[0],
+        v1: g[3],
+        v2: g[2],
+    });
+    Setup {
+        mesh,
+        location,
+        light: Vec3A::new(0.4, 1.0, 0.3).normalize(),
+        eye: Vec3A::new(0.0, 7.0, 9.0),
+        triangles,
+    }
+}
+
+fn world(s: &Setup, velocity: Vec3) -> World {
+    let torus = Instance {
+        shape: Shape::Mesh(s.mesh.clone()),
+        motion: Motion {
+            layers: vec![MotionLayer {
+                location: s.location,
+                velocity,
+                ..MotionLayer::default()
+            }],
+        },
+        material: 0,
+    };
+    let ground = Instance {
+        shape: Shape::Plane(Plane {
+            half_extent: Some(Vec2::splat(50.0)),
+        }),
+        motion: Motion::default(),
+        material: 1,
+    };
+    World::build(vec![torus, ground], SHUTTER)
+}
+
+/// The camera ray of pixel (x, y): jittered in the pixel and in the shutter.
+fn camera_ray(s: &Setup, x: u32, y: u32) -> Ray {
+    let h = |axis: u64| unit_f32(hash(17, &[x as u64, y as u64, axis]));
+    let u = (x as f32 + h(0)) / SIZE as f32 * 2.0 - 1.0;
+    let v = 1.0 - (y as f32 + h(1)) / SIZE as f32 * 2.0;
+    let forward = (Vec3A::new(0.0, 1.0, 0.0) - s.eye).normalize();
+    let right = forward.cross(Vec3A::Y).normalize();
+    let up = right.cross(forward);
+    let dir = forward + (right * u + up * v) * 0.6;
+    Ray::new(s.eye, dir, SHUTTER.0 + (SHUTTER.1 - SHUTTER.0) * h(2))
+}
+
+/// Rays traced for one row: (primary + shadow rays, lit hits).
+fn trace_row(s: &Setup, w: &World, y: u32) -> (u64, u64) {
+    let (mut rays, mut lit) = (0, 0);
+    for x in 0..SIZE {
+        let ray = camera_ray(s, x, y);
+        rays += 1;
+        if let Some(h) = w.intersect(&ray) {
+            rays += 1;
+            let shadow = Ray::new(h.spawn_point(s.light), s.light, ray.time);
+            lit += u64::from(!w.occluded(&shadow));
+        }
+    }
+    (rays, lit)
+}
+
+fn trace_frame(s: &Setup, w: &World) -> (u64, u64) {
+    (0..SIZE)
+        .into_par_iter()
+        .map(|y| trace_row(s, w, y))
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+}
+
+/// The same rays through bare obvhs: one BVH over world-space triangles, Möller-Trumbore,
+/// shadow ray from the hit point pushed along the triangle normal by the same rule.
+fn bare_row<B: BareBvh>(s: &Setup, bvh: &B, y: u32) -> (u64, u64) {
+    let (mut rays, mut lit) = (0, 0);
+    for x in 0..SIZE {
+        let r = camera_ray(s, x, y);
+        let ray = obvhs::ray::Ray::new_inf(r.origin, r.dir);
+        rays += 1;
+        let mut hit = RayHit::none();
+        if bvh.closest(ray, &mut hit, &s.triangles) {
+            rays += 1;
+            let tri = &s.triangles[bvh.original(hit.primitive_id)];
+            let p = r.at(hit.t);
+            let mut n = tri.compute_normal();
+            if n.dot(s.light) < 0.0 {
+                n = -n;
+            }
+            let o = p + n * (1e-5 * (1.0 + p.abs().max_element()));
+            lit += u64::from(bvh.miss(obvhs::ray::Ray::new_inf(o, s.light), &s.triangles));
+        }
+    }
+    (rays, lit)
+}
+
+trait BareBvh: Sync {
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool;
+    fn miss(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool;
+    fn original(&self, id: u32) -> usize;
+}
+
+impl BareBvh for Bvh2 {
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool {
+        self.ray_traverse(ray, hit, |r, id| {
+            tris[self.primitive_indices[id] as usize].intersect(r)
+        })
+    }
+    fn miss(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool {
+        self.ray_traverse_miss(ray, |r, id| {
+            tris[self.primitive_indices[id] as usize].intersect(r)
+        })
+    }
+    fn original(&self, id: u32) -> usize {
+        self.primitive_indices[id as usize] as usize
+    }
+}
+
+impl BareBvh for CwBvh {
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool {
+        self.ray_traverse(ray, hit, |r, id| {
+            tris[self.primitive_indices[id] as usize].intersect(r)
+        })
+    }
+    fn miss(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool {
+        self.ray_traverse_miss(ray, |r, id| {
+            tris[self.primitive_indices[id] as usize].intersect(r)
+        })
+    }
+    fn original(&self, id: u32) -> usize {
+        self.primitive_indices[id as usize] as usize
+    }
+}
+
+fn bare_frame<B: BareBvh>(s: &Setup, bvh: &B) -> (u64, u64) {
+    (0..SIZE)
+        .into_par_iter()
+        .map(|y| bare_row(s, bvh, y))
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
+}
+
+fn bench(c: &mut Criterion) {
+    let s = setup();
+    let still = world(&s, Vec3::ZERO);
+    let moving = world(&s, Vec3::new(4.0, 0.0, 1.0));
+    let bvh2 = build_bvh2_from_tris(
+        &s.triangles,
+        BvhBuildParams::medium_build(),
+        &mut Duration::default(),
+    );
+    let cwbvh = build_cwbvh_from_tris(
+        &s.triangles,
+        BvhBuildParams::medium_build(),
+        &mut Duration::default(),
+    );
+    let two = pool(2);
+    let one = pool(1);
+
+    let (rays, lit) = two.install(|| trace_frame(&s, &still));
+    let (bare_rays, bare_lit) = two.install(|| bare_frame(&s, &bvh2));
+    let (moving_rays, _) = two.install(|| trace_frame(&s, &moving));
+    eprintln!(
+        "rays per frame: ours {rays} ({lit} lit), bare {bare_rays} ({bare_lit} lit), moving {moving_rays}; \
+         torus {} triangles",
+        s.mesh.triangle_count()
+    );
+
+    let mut g = c.benchmark_group("trace");
+    g.sample_size(10)
+        .measurement_time(Duration::from_secs(4))
+        .warm_up_time(Duration::from_secs(1));
+    g.throughput(Throughput::Elements(rays));
+    g.bench_function("ours_static_2_threads", |b| {
+        b.iter(|| two.install(|| black_box(trace_frame(&s, &still))))
+    });
+    g.bench_function("ours_static_1_thread", |b| {
+        b.iter(|| one.install(|| black_box(trace_frame(&s, &still))))
+    });
+    g.throughput(Throughput::Elements(moving_rays));
+    g.bench_function("ours_moving_2_threads", |b| {
+        b.iter(|| two.install(|| black_box(trace_frame(&s, &moving))))
+    });
+    g.throughput(Throughput::Elements(bare_rays));
+    g.bench_function("bare_bvh2_2_threads", |b| {
+        b.iter(|| two.install(|| black_box(bare_frame(&s, &bvh2))))
+    });
+    g.bench_function("bare_cwbvh_2_threads", |b| {
+        b.iter(|| two.install(|| black_box(bare_frame(&s, &cwbvh))))
+    });
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("world_build_moving", |b| {
+        b.iter_batched(
+            || (),
+            |_| black_box(world(&s, Vec3::new(4.0, 0.0, 1.0))),
+            BatchSize::SmallInput,
+        )
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
