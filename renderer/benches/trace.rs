@@ -5,7 +5,13 @@
 //! toward a directional light per hit. Run:
 //! `CARGO_TARGET_DIR=/work/target-release cargo bench -p renderer --bench trace`
 //! (results: `docs/benchmarks/renderer-trace.md`).
+//!
+//! Two groups: `trace` in wall time (what a user waits), `trace_cpu` in CPU time of all the
+//! process's threads (what the work costs; on the shared 2-core machine wall time depends on
+//! what everybody else runs). Rays per CPU-second times the thread count is the rate the cores
+//! would give if nobody else used them.
 
+use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3, Vec3A};
 use obvhs::BvhBuildParams;
@@ -203,7 +209,75 @@ fn pool(threads: usize) -> rayon::ThreadPool {
         .expect("thread pool")
 }
 
-fn bench(c: &mut Criterion) {
+/// CPU time of every thread of this process, from `/proc/self/task/*/schedstat` (nanoseconds
+/// on CPU, first field). Linux only; elsewhere the group measures 0 and says so.
+struct CpuTime;
+
+fn process_cpu_ns() -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return 0.0;
+    };
+    tasks
+        .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .sum()
+}
+
+impl Measurement for CpuTime {
+    type Intermediate = f64;
+    type Value = f64;
+    fn start(&self) -> f64 {
+        process_cpu_ns()
+    }
+    fn end(&self, start: f64) -> f64 {
+        process_cpu_ns() - start
+    }
+    fn add(&self, a: &f64, b: &f64) -> f64 {
+        a + b
+    }
+    fn zero(&self) -> f64 {
+        0.0
+    }
+    fn to_f64(&self, v: &f64) -> f64 {
+        *v
+    }
+    fn formatter(&self) -> &dyn ValueFormatter {
+        &CpuFormatter
+    }
+}
+
+struct CpuFormatter;
+
+impl ValueFormatter for CpuFormatter {
+    fn scale_values(&self, _typical: f64, values: &mut [f64]) -> &'static str {
+        values.iter_mut().for_each(|v| *v *= 1e-6);
+        "ms cpu"
+    }
+    fn scale_throughputs(&self, _typical: f64, t: &Throughput, values: &mut [f64]) -> &'static str {
+        let n = match *t {
+            Throughput::Elements(n) => n as f64,
+            _ => 1.0,
+        };
+        values.iter_mut().for_each(|v| *v = n / *v * 1e3); // per ns -> millions per s
+        "M rays/cpu-s"
+    }
+    fn scale_for_machines(&self, _values: &mut [f64]) -> &'static str {
+        "ns"
+    }
+}
+
+struct Fixture {
+    s: Setup,
+    still: World,
+    moving: World,
+    bvh2: Bvh2,
+    cwbvh: CwBvh,
+    rays: u64,
+    moving_rays: u64,
+    bare_rays: u64,
+}
+
+fn fixture() -> Fixture {
     let s = setup();
     let still = world(&s, Vec3::ZERO);
     let moving = world(&s, Vec3::new(4.0, 0.0, 1.0));
@@ -217,50 +291,87 @@ fn bench(c: &mut Criterion) {
         BvhBuildParams::medium_build(),
         &mut Duration::default(),
     );
-    let two = pool(2);
-    let one = pool(1);
-
-    let (rays, lit) = two.install(|| trace_frame(&s, &still));
-    let (bare_rays, bare_lit) = two.install(|| bare_frame(&s, &bvh2));
-    let (moving_rays, _) = two.install(|| trace_frame(&s, &moving));
+    let (rays, lit) = trace_frame(&s, &still);
+    let (bare_rays, bare_lit) = bare_frame(&s, &bvh2);
+    let (moving_rays, _) = trace_frame(&s, &moving);
     eprintln!(
         "rays per frame: ours {rays} ({lit} lit), bare {bare_rays} ({bare_lit} lit), moving {moving_rays}; \
          torus {} triangles",
         s.mesh.triangle_count()
     );
+    Fixture {
+        s,
+        still,
+        moving,
+        bvh2,
+        cwbvh,
+        rays,
+        moving_rays,
+        bare_rays,
+    }
+}
 
-    let mut g = c.benchmark_group("trace");
+fn group<M: Measurement>(c: &mut Criterion<M>, name: &str, f: &Fixture) {
+    let (two, one) = (pool(2), pool(1));
+    let s = &f.s;
+    let mut g = c.benchmark_group(name);
     g.sample_size(10)
-        .measurement_time(Duration::from_secs(4))
+        .measurement_time(Duration::from_secs(3))
         .warm_up_time(Duration::from_secs(1));
-    g.throughput(Throughput::Elements(rays));
+    g.throughput(Throughput::Elements(f.rays));
     g.bench_function("ours_static_2_threads", |b| {
-        b.iter(|| two.install(|| black_box(trace_frame(&s, &still))))
+        b.iter(|| two.install(|| black_box(trace_frame(s, &f.still))))
     });
     g.bench_function("ours_static_1_thread", |b| {
-        b.iter(|| one.install(|| black_box(trace_frame(&s, &still))))
+        b.iter(|| one.install(|| black_box(trace_frame(s, &f.still))))
     });
-    g.throughput(Throughput::Elements(moving_rays));
+    g.throughput(Throughput::Elements(f.moving_rays));
     g.bench_function("ours_moving_2_threads", |b| {
-        b.iter(|| two.install(|| black_box(trace_frame(&s, &moving))))
+        b.iter(|| two.install(|| black_box(trace_frame(s, &f.moving))))
     });
-    g.throughput(Throughput::Elements(bare_rays));
+    g.throughput(Throughput::Elements(f.bare_rays));
     g.bench_function("bare_bvh2_2_threads", |b| {
-        b.iter(|| two.install(|| black_box(bare_frame(&s, &bvh2))))
+        b.iter(|| two.install(|| black_box(bare_frame(s, &f.bvh2))))
     });
     g.bench_function("bare_cwbvh_2_threads", |b| {
-        b.iter(|| two.install(|| black_box(bare_frame(&s, &cwbvh))))
-    });
-    g.throughput(Throughput::Elements(1));
-    g.bench_function("world_build_moving", |b| {
-        b.iter_batched(
-            || (),
-            |_| black_box(world(&s, Vec3::new(4.0, 0.0, 1.0))),
-            BatchSize::SmallInput,
-        )
+        b.iter(|| two.install(|| black_box(bare_frame(s, &f.cwbvh))))
     });
     g.finish();
 }
 
-criterion_group!(benches, bench);
-criterion_main!(benches);
+fn bench_wall(c: &mut Criterion) {
+    let f = fixture();
+    group(c, "trace", &f);
+    let mut g = c.benchmark_group("build");
+    g.sample_size(10);
+    g.bench_function("world_build_moving", |b| {
+        b.iter_batched(
+            || (),
+            |_| black_box(world(&f.s, Vec3::new(4.0, 0.0, 1.0))),
+            BatchSize::SmallInput,
+        )
+    });
+    g.bench_function("mesh_bvh_200k_triangles", |b| {
+        let m = &f.s.mesh;
+        b.iter(|| {
+            black_box(TriangleMesh::new(
+                m.positions.clone(),
+                m.normals.clone(),
+                m.indices.clone(),
+            ))
+        })
+    });
+    g.finish();
+}
+
+fn bench_cpu(c: &mut Criterion<CpuTime>) {
+    group(c, "trace_cpu", &fixture());
+}
+
+criterion_group!(benches, bench_wall);
+criterion_group! {
+    name = cpu;
+    config = Criterion::default().with_measurement(CpuTime);
+    targets = bench_cpu
+}
+criterion_main!(benches, cpu);

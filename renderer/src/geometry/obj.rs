@@ -40,7 +40,6 @@ impl TriangleMesh {
             single_index: true,
             ignore_points: true,
             ignore_lines: true,
-            ..Default::default()
         };
         // Materials are the scene's business: never open the model's .mtl files.
         let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
