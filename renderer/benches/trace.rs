@@ -364,8 +364,52 @@ fn bench_wall(c: &mut Criterion) {
     g.finish();
 }
 
+/// Ratios measured in the same run, interleaved round by round so that the machine's load
+/// (shared by several people) hits every variant alike; medians over the rounds.
+fn interleaved_ratios(f: &Fixture) {
+    let (one, two) = (pool(1), pool(2));
+    let cpu = |run: &dyn Fn()| {
+        let t = process_cpu_ns();
+        run();
+        process_cpu_ns() - t
+    };
+    let wall = |run: &dyn Fn()| {
+        let t = std::time::Instant::now();
+        run();
+        t.elapsed().as_secs_f64()
+    };
+    let s = &f.s;
+    let (mut bare, mut moving, mut threads) = (vec![], vec![], vec![]);
+    for _ in 0..15 {
+        let ours = cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.still)))));
+        let b = cpu(&|| drop(one.install(|| black_box(bare_frame(s, &f.bvh2)))));
+        let m = cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.moving)))));
+        let w1 = wall(&|| drop(one.install(|| black_box(trace_frame(s, &f.still)))));
+        let w2 = wall(&|| drop(two.install(|| black_box(trace_frame(s, &f.still)))));
+        bare.push(ours / b);
+        moving.push(m / ours);
+        threads.push(w1 / w2);
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let rate =
+        f.rays as f64 / (cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.still))))) * 1e-9);
+    eprintln!(
+        "interleaved medians of 15 rounds: ours/bare CPU time {:.3}, moving/static CPU time {:.3}, \
+         wall 1 thread / 2 threads {:.3}; ours {:.2} M rays per CPU-second",
+        median(&mut bare),
+        median(&mut moving),
+        median(&mut threads),
+        rate * 1e-6
+    );
+}
+
 fn bench_cpu(c: &mut Criterion<CpuTime>) {
-    group(c, "trace_cpu", &fixture());
+    let f = fixture();
+    interleaved_ratios(&f);
+    group(c, "trace_cpu", &f);
 }
 
 criterion_group!(benches, bench_wall);
