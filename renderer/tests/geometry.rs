@@ -88,7 +88,7 @@ fn a_closed_mesh_seen_from_inside_lets_no_ray_escape() {
                 Some(h) => assert!((h.t - 1.0).abs() < 1e-5, "t = {}", h.t),
                 None => escaped += 1,
             }
-            if k % 8 == 0 && !mesh.occluded(&ray) {
+            if k.is_multiple_of(8) && !mesh.occluded(&ray) {
                 unoccluded += 1;
             }
         }
