@@ -164,11 +164,12 @@ fn the_non_watertight_test_does_let_rays_escape() {
 
 #[test]
 fn rays_from_far_away_aimed_at_vertices_hit() {
-    // Padding covers origins up to ~40 diagonals away (docs/geometry.md); test 5 to 30.
+    // Padding covers origins up to ~40 diagonals away (docs/geometry.md); the diagonal of the
+    // unit icosphere's box is 2 sqrt(3) = 3.46: test 3, 17 and 40 diagonals.
     let mesh = icosphere(1.0, 3);
     let n = mesh.normals.clone().expect("normals");
     let mut missed = 0;
-    for (dist, seed) in [(10.0f32, 2u64), (60.0, 3)] {
+    for (dist, seed) in [(10.0f32, 2u64), (60.0, 3), (138.0, 4)] {
         for (i, &v) in mesh.positions.iter().enumerate() {
             for k in 0..8u64 {
                 let origin = in_ball(seed, &[i as u64, k], 1.0).normalize() * dist;
