@@ -15,7 +15,7 @@
 
 use crate::data::Curve;
 use crate::optimizer::{Tolerance, nelder_mead};
-use crate::sigmoid::Sigmoid;
+use crate::sigmoid::{Sigmoid, SigmoidValue};
 use serde::Serialize;
 
 mod starts;
@@ -65,7 +65,15 @@ pub struct Model {
 impl Model {
     /// (ln p, ln (1 - p)) at x = ln spp, both finite.
     pub fn ln_p_pair(&self, x: f64) -> (f64, f64) {
-        let v = self.sigmoid.eval(self.beta * (self.alpha - x));
+        self.ln_p_pair_of(&self.sigmoid.eval(self.beta * (self.alpha - x)))
+    }
+
+    /// (ln p, ln (1 - p)) from the sigmoid's value.
+    fn ln_p_pair_of(&self, v: &SigmoidValue) -> (f64, f64) {
+        if self.lapse == 0.0 {
+            // 1 - p = 0.5 (1 - S) exactly: one logarithm less, and no underflow of 1 - S.
+            return ((GUESS + GUESS * v.s).ln(), GUESS.ln() + v.ln_sc);
+        }
         let ln_p = (GUESS + (1.0 - GUESS - self.lapse) * v.s).ln();
         let q = GUESS * v.sc + self.lapse * v.s;
         let ln_q = if q > 1e-300 {
@@ -211,12 +219,21 @@ impl Data {
     }
 
     fn log_likelihood(&self, m: &Model) -> f64 {
+        self.log_likelihood_flat(m).0
+    }
+
+    /// The log-likelihood, and whether the function is on a plateau at every level
+    /// (min(S, 1 - S) < 1e-6: indistinguishable there from a step).
+    fn log_likelihood_flat(&self, m: &Model) -> (f64, bool) {
         let mut ll = 0.0;
+        let mut flat = true;
         for i in 0..self.x.len() {
-            let (lp, lq) = m.ln_p_pair(self.x[i]);
+            let v = m.sigmoid.eval(m.beta * (m.alpha - self.x[i]));
+            flat &= v.s.min(v.sc) < 1e-6;
+            let (lp, lq) = m.ln_p_pair_of(&v);
             ll += term(self.k[i], self.n[i], lp, lq);
         }
-        ll
+        (ll, flat)
     }
 }
 

@@ -102,16 +102,13 @@ fn point(space: &Space, data: &Data, alpha: f64, beta: f64, lapse: f64) -> Point
         beta,
         lapse,
     };
-    (
-        data.log_likelihood(&m),
-        flat(&m, data),
-        space.coords(alpha, beta, lapse),
-    )
+    let (ll, flat) = data.log_likelihood_flat(&m);
+    (ll, flat, space.coords(alpha, beta, lapse))
 }
 
-/// Starts of a warm refit besides the previous optimum: the best point of a 13 x 11 grid.
+/// Starts of a warm refit besides the previous optimum: the best point of a 9 x 7 grid.
 pub(super) fn warm(space: &Space, data: &Data) -> [f64; 3] {
-    Grid::new(space, data, &even_alphas(space, 12), 10).best()
+    Grid::new(space, data, &even_alphas(space, 8), 6).best()
 }
 
 /// Starts of a cold fit: the best point of a grid of 41 log-slopes x locations evenly over the
@@ -152,12 +149,4 @@ pub(super) fn cold(curve: &Curve, space: &Space, data: &Data) -> Vec<[f64; 3]> {
         }
     }
     unique
-}
-
-/// The model is a plateau at every tested level (indistinguishable there from a step).
-fn flat(m: &Model, data: &Data) -> bool {
-    data.x.iter().all(|&x| {
-        let v = m.sigmoid.eval(m.beta * (m.alpha - x));
-        v.s.min(v.sc) < 1e-6
-    })
 }
