@@ -116,52 +116,102 @@ impl Ord for Entry {
 
 /// For every point, the other points within toroidal distance `radius` and their distances,
 /// found through a periodic grid of cells at least `radius` wide (all pairs when the grid would
-/// have fewer than 3 cells per axis, where wrapped neighbour cells would repeat).
+/// have fewer than 3 cells per axis, where wrapped neighbour cells would repeat). Each pair is
+/// measured once and listed at both ends.
 fn neighbour_lists(p: &Points, radius: f64) -> Vec<Vec<(usize, f64)>> {
     let n = p.len();
-    let cells = (1.0 / radius).floor() as usize;
     let mut out = vec![Vec::new(); n];
     let mut consider = |i: usize, j: usize| {
         let d = toroidal_distance(p.get(i), p.get(j));
         if d < radius {
             out[i].push((j, d));
+            out[j].push((i, d));
         }
     };
+    let cells = (1.0 / radius).floor() as usize;
     if cells < 3 {
         for i in 0..n {
-            for j in (0..n).filter(|&j| j != i) {
+            for j in i + 1..n {
                 consider(i, j);
             }
         }
         return out;
     }
-    let dims = p.dims();
-    let cell_of = |x: &[f64]| -> Vec<usize> {
-        x.iter()
-            .map(|c| ((c * cells as f64) as usize).min(cells - 1))
-            .collect()
-    };
-    let index = |c: &[usize]| c.iter().fold(0, |acc, &k| acc * cells + k);
-    let mut grid: Vec<Vec<usize>> = vec![Vec::new(); cells.pow(dims as u32)];
+    let grid = Grid::new(p, cells);
     for i in 0..n {
-        grid[index(&cell_of(p.get(i)))].push(i);
-    }
-    let offsets = 3usize.pow(dims as u32);
-    for i in 0..n {
-        let home = cell_of(p.get(i));
-        for o in 0..offsets {
-            // Offset digits in base 3 are -1, 0, +1 per axis, wrapped around the torus.
-            let cell: Vec<usize> = (0..dims)
-                .map(|d| (home[d] + cells + (o / 3usize.pow(d as u32)) % 3 - 1) % cells)
-                .collect();
-            for &j in &grid[index(&cell)] {
-                if j != i {
+        for cell in grid.neighbourhood(grid.cell[i]) {
+            for &j in grid.members(cell) {
+                if j > i {
                     consider(i, j);
                 }
             }
         }
     }
     out
+}
+
+/// Points sorted into a periodic grid of `cells` per axis (counting sort: no per-cell vectors).
+struct Grid {
+    cells: usize,
+    dims: usize,
+    /// Each point's cell index.
+    cell: Vec<usize>,
+    /// Points ordered by cell; cell c holds `order[start[c]..start[c + 1]]`.
+    order: Vec<usize>,
+    start: Vec<usize>,
+}
+
+impl Grid {
+    fn new(p: &Points, cells: usize) -> Self {
+        let dims = p.dims();
+        let cell: Vec<usize> = p
+            .iter()
+            .map(|x| {
+                x.iter().fold(0, |acc, c| {
+                    acc * cells + ((c * cells as f64) as usize).min(cells - 1)
+                })
+            })
+            .collect();
+        let mut start = vec![0usize; cells.pow(dims as u32) + 1];
+        for &c in &cell {
+            start[c + 1] += 1;
+        }
+        for c in 1..start.len() {
+            start[c] += start[c - 1];
+        }
+        let mut next = start.clone();
+        let mut order = vec![0; p.len()];
+        for (i, &c) in cell.iter().enumerate() {
+            order[next[c]] = i;
+            next[c] += 1;
+        }
+        Self {
+            cells,
+            dims,
+            cell,
+            order,
+            start,
+        }
+    }
+
+    fn members(&self, cell: usize) -> &[usize] {
+        &self.order[self.start[cell]..self.start[cell + 1]]
+    }
+
+    /// The 3^d cells around `cell` (itself included), wrapped around the torus.
+    fn neighbourhood(&self, cell: usize) -> impl Iterator<Item = usize> + '_ {
+        let k = self.cells;
+        (0..3usize.pow(self.dims as u32)).map(move |o| {
+            // Axis a (0 = slowest) of `cell` is digit dims-1-a in base k; the offset's digit
+            // in base 3 is -1, 0 or +1 for that axis.
+            (0..self.dims).fold(0, |acc, a| {
+                let place = self.dims - 1 - a;
+                let home = cell / k.pow(place as u32) % k;
+                let step = o / 3usize.pow(place as u32) % 3;
+                acc * k + (home + k + step - 1) % k
+            })
+        })
+    }
 }
 
 #[cfg(test)]
