@@ -4,6 +4,7 @@
 pub mod assets;
 pub mod export;
 pub mod job;
+pub mod pointsets;
 pub mod report;
 
 use anyhow::Result;
@@ -20,6 +21,8 @@ pub enum RenderCommand {
     Export(export::ExportArgs),
     /// Regenerate the procedural models and environment maps under scenes/.
     Assets(assets::AssetsArgs),
+    /// Measure a point set (discrepancy, spacing) and plot its 2D projections (thesis Figure 4).
+    Pointsets(pointsets::PointsetsArgs),
 }
 
 /// Run one renderer subcommand.
@@ -29,5 +32,6 @@ pub fn run(cmd: RenderCommand) -> Result<()> {
         RenderCommand::Report(a) => report::run(a),
         RenderCommand::Export(a) => export::run(a),
         RenderCommand::Assets(a) => assets::run(a),
+        RenderCommand::Pointsets(a) => pointsets::run(a),
     }
 }
