@@ -231,6 +231,8 @@ impl StudySpec {
             onsets_ms: vec![],
             frame_times_ms: vec![],
             dropped_frames: 0,
+            pauses: 0,
+            preload_ms: 0.0,
         }
     }
 }
