@@ -17,12 +17,18 @@ enum Command {
         #[command(subcommand)]
         command: renderer::cli::RenderCommand,
     },
+    /// Run a subject's session (full screen; continues an interrupted session).
+    Run(experiment::cli::RunArgs),
+    /// Run simulated subjects through a design, writing their session logs.
+    Simulate(experiment::cli::SimulateArgs),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render { command } => renderer::cli::run(command),
+        Command::Run(args) => experiment::cli::run(args),
+        Command::Simulate(args) => experiment::cli::simulate(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -89,7 +89,14 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
     Ok(())
 }
 
+/// `run`: a subject's session in the window.
+#[cfg(feature = "gui")]
+pub fn run(args: RunArgs) -> Result<()> {
+    crate::app::launch(&args)
+}
+
 /// `run` without the window: explain how to get it.
+#[cfg(not(feature = "gui"))]
 pub fn run(args: RunArgs) -> Result<()> {
     let _ = args;
     anyhow::bail!(

@@ -4,6 +4,8 @@
 //!
 //! The library part has no GUI dependency: the analysis and the simulator use it headless.
 
+#[cfg(feature = "gui")]
+pub mod app;
 pub mod cli;
 pub mod design;
 pub mod fixture;
@@ -15,6 +17,7 @@ pub mod log_writer;
 pub mod observer;
 pub mod preflight;
 pub mod presentation;
+pub mod refresh;
 pub mod session;
 pub mod simulate;
 pub mod trials;
