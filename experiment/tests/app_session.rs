@@ -225,6 +225,36 @@ fn pause_restarts_the_presentation_and_quit_keeps_answers_for_resume() {
 }
 
 #[test]
+fn the_next_trial_loads_while_the_subject_answers() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = study(dir.path());
+    let (app, log_path) = open_app(&study, "k4");
+    let mut h = harness(app, 1.0);
+    start(&mut h);
+    step_until(&mut h, "the response screen", SessionApp::responding);
+    // The first trial had to load before it could start; the next one loads now (uploads begin
+    // on the repaint after the question appeared).
+    let plan = h.state().session().plan().clone();
+    if plan.practice[0].test_stimulus != plan.main[0].test_stimulus {
+        assert!(h.state().prefetching());
+    }
+    step_until(&mut h, "the prefetch", |a| !a.prefetching());
+    press(&mut h, Key::Num1);
+    h.run_steps(70); // practice feedback
+    press(&mut h, Key::Space); // end of practice
+    step_until(&mut h, "the response screen", SessionApp::responding);
+    press(&mut h, Key::Num1);
+    let log = SessionLog::read(&log_path).unwrap();
+    assert!(log.trials[0].preload_ms > 0.0);
+    // Nothing was left to load when trial 2 began: its wait was one repaint's bookkeeping.
+    assert!(
+        log.trials[1].preload_ms < 5.0,
+        "{}",
+        log.trials[1].preload_ms
+    );
+}
+
+#[test]
 fn videos_too_large_for_the_display_stop_before_the_session_starts() {
     let dir = tempfile::tempdir().unwrap();
     let study = study(dir.path());

@@ -116,12 +116,18 @@ impl Xvfb {
         String::from_utf8_lossy(&out.stdout).trim().to_string()
     }
 
-    /// Wait for the app's window and give it the keyboard.
-    fn find_window(&self, name: &str, deadline: Instant) -> String {
+    /// Wait for the app's window (failing at once, with its messages, if the app exits).
+    fn find_window(&self, name: &str, run: &mut Run, deadline: Instant) -> String {
         loop {
             let id = self.xdotool(&["search", "--name", name]);
             if let Some(id) = id.lines().next().filter(|l| !l.is_empty()) {
                 return id.to_string();
+            }
+            if let Some(status) = run.app.0.try_wait().unwrap() {
+                panic!(
+                    "the app exited ({status}) before its window appeared:\n{}",
+                    std::fs::read_to_string(&run.stderr).unwrap_or_default()
+                );
             }
             assert!(
                 Instant::now() < deadline,
@@ -320,9 +326,10 @@ fn stimulus_frames_reach_the_screen_pixel_for_pixel_at_scale_1_and_1_5() {
     for (i, scale) in [1.0f32, 1.5].into_iter().enumerate() {
         let subject = format!("t{i}");
         let expected = Expected::new(&study, &subject, screen);
-        let deadline = Instant::now() + Duration::from_secs(40);
+        // Generous for a loaded 2-core CI machine; a passing run takes about 7 s per scale.
+        let deadline = Instant::now() + Duration::from_secs(90);
         let mut run = start_app(&x, &study, scale, &subject);
-        let window = x.find_window(&format!("blurlab gui {subject}"), deadline);
+        let window = x.find_window(&format!("blurlab gui {subject}"), &mut run, deadline);
         watch_both_pairs(&x, &window, &expected, deadline);
         let log = answer_and_close(&x, &window, &mut run, deadline);
 
@@ -393,7 +400,7 @@ fn thesis_size_trial_under_xvfb() {
     let x = Xvfb::start(screen.0, screen.1);
     let deadline = Instant::now() + Duration::from_secs(300);
     let mut run = start_app(&x, &study, 1.0, "m1");
-    let window = x.find_window("blurlab gui m1", deadline);
+    let window = x.find_window("blurlab gui m1", &mut run, deadline);
     // No screenshots here: they would compete with playback for the CPU. Start the session
     // (the header appears), then answer once the presentation is over.
     while !run.log.exists() {

@@ -29,7 +29,6 @@ pub struct Loader {
     textures: Vec<Vec<Option<TextureHandle>>>,
     total: usize,
     uploaded: usize,
-    started: Instant,
 }
 
 /// Where loading stands.
@@ -75,7 +74,6 @@ impl Loader {
             textures,
             total,
             uploaded: 0,
-            started: Instant::now(),
         }
     }
 
@@ -105,9 +103,9 @@ impl Loader {
         }
     }
 
-    /// Milliseconds since loading started.
-    pub fn elapsed_ms(&self) -> f64 {
-        self.started.elapsed().as_secs_f64() * 1000.0
+    /// Every frame is uploaded.
+    pub fn is_done(&self) -> bool {
+        self.uploaded == self.total
     }
 
     /// The loaded videos (call after [`LoadState::Done`]).

@@ -17,7 +17,7 @@ use renderer::manifest::Manifest;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// How the window paces repaints.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,6 +41,8 @@ struct TrialView {
     presentation: Option<Presentation>,
     preload_ms: f64,
     pauses: u32,
+    /// When the trial became current (its preload time is the wait from here).
+    began: Instant,
 }
 
 /// The app's state.
@@ -58,6 +60,8 @@ pub struct SessionApp {
     view: Option<TrialView>,
     /// Decoded videos by stimulus id (those of the current trial).
     videos: HashMap<String, Video>,
+    /// The next trial's videos, loading while the subject answers: (practice, index) and loader.
+    prefetch: Option<((bool, u32), Loader)>,
     paused_at: Option<f64>,
     feedback: Option<(bool, f64)>,
     fatal: Option<String>,
@@ -97,6 +101,7 @@ impl SessionApp {
             origin: None,
             view: None,
             videos: HashMap::new(),
+            prefetch: None,
             paused_at: None,
             feedback: None,
             fatal: None,
@@ -121,7 +126,9 @@ impl SessionApp {
         let (Some(m), Some(r)) = (monitor, inner) else {
             return;
         };
-        let covered = (r.size() - m).length() < 0.5 && r.min.to_vec2().length() < 0.5;
+        // Only the size is compared: under a window manager a fullscreen window on a second
+        // monitor sits away from the origin, and must stay there.
+        let covered = (r.size() - m).length() < 0.5;
         if !covered && self.cover_attempts < 20 {
             self.cover_attempts += 1;
             ctx.send_viewport_cmd(ViewportCommand::OuterPosition(egui::Pos2::ZERO));
@@ -161,6 +168,11 @@ impl SessionApp {
             .as_ref()
             .and_then(|v| v.presentation.as_ref())
             .is_some_and(Presentation::responding)
+    }
+
+    /// Whether the next trial's videos are still being loaded in advance.
+    pub fn prefetching(&self) -> bool {
+        self.prefetch.as_ref().is_some_and(|(_, l)| !l.is_done())
     }
 
     pub fn paused(&self) -> bool {
@@ -211,6 +223,7 @@ impl SessionApp {
             ctx.request_repaint();
             return;
         }
+        self.pump_prefetch(&ctx);
         if let Some((correct, until)) = self.feedback {
             if now < until {
                 let text = if correct { "Correct" } else { "Not correct" };
@@ -400,7 +413,7 @@ impl SessionApp {
                     return;
                 }
                 LoadState::Done => {
-                    view.preload_ms = loader.elapsed_ms();
+                    view.preload_ms = view.began.elapsed().as_secs_f64() * 1000.0;
                     let loader = view.loader.take().expect("loader present");
                     for v in loader.into_videos() {
                         self.videos.insert(v.source.id.clone(), v);
@@ -463,18 +476,36 @@ impl SessionApp {
         }
     }
 
-    /// Set up a trial's view, loading the videos not already held.
+    /// Set up a trial's view, taking over the prefetch of its videos if there is one.
     fn begin_trial(&mut self, stage: Stage) -> anyhow::Result<TrialView> {
+        let began = Instant::now();
         let trial = self
             .session
             .trial()
             .ok_or_else(|| anyhow::anyhow!("no trial at stage {stage:?}"))?
             .clone();
+        let loader = match self.prefetch.take() {
+            Some((key, loader)) if key == (trial.practice, trial.index) => loader,
+            _ => self.loader_for(&trial)?,
+        };
+        Ok(TrialView {
+            stage,
+            trial,
+            loader: Some(loader),
+            presentation: None,
+            preload_ms: 0.0,
+            pauses: 0,
+            began,
+        })
+    }
+
+    /// Free the videos `trial` does not show and start loading those it needs.
+    fn loader_for(&mut self, trial: &Trial) -> anyhow::Result<Loader> {
         let needed = trial.stimuli();
         self.videos.retain(|id, _| needed.contains(&id.as_str()));
-        let mut missing = Vec::new();
+        let mut missing: Vec<VideoSource> = Vec::new();
         for id in needed {
-            if !self.videos.contains_key(id) && !missing.iter().any(|s: &VideoSource| s.id == id) {
+            if !self.videos.contains_key(id) && !missing.iter().any(|s| s.id == id) {
                 missing.push(VideoSource::from_manifest(
                     &self.manifest,
                     &self.manifest_path,
@@ -482,18 +513,46 @@ impl SessionApp {
                 )?);
             }
         }
-        Ok(TrialView {
-            stage,
-            trial,
-            loader: Some(Loader::start(missing)),
-            presentation: None,
-            preload_ms: 0.0,
-            pauses: 0,
-        })
+        Ok(Loader::start(missing))
+    }
+
+    /// Once a presentation is over, load the next trial's videos while the subject answers
+    /// (never during playback, where decoding would compete with frame pacing).
+    fn start_prefetch(&mut self) {
+        if self.prefetch.is_some() {
+            return;
+        }
+        let Some(next) = self.session.next_trial().cloned() else {
+            return;
+        };
+        // A failure here is reported when the trial itself starts.
+        if let Ok(loader) = self.loader_for(&next) {
+            self.prefetch = Some(((next.practice, next.index), loader));
+        }
+    }
+
+    /// Upload prefetched frames a few at a time while nothing moves on screen.
+    fn pump_prefetch(&mut self, ctx: &egui::Context) {
+        let presenting = self
+            .view
+            .as_ref()
+            .and_then(|v| v.presentation.as_ref())
+            .is_some_and(|p| !p.responding());
+        if presenting {
+            return;
+        }
+        if let Some((_, loader)) = self.prefetch.as_mut() {
+            match loader.pump(ctx, UPLOAD_BUDGET) {
+                LoadState::Loading { .. } => ctx.request_repaint(),
+                LoadState::Done => {}
+                LoadState::Failed(_) => self.prefetch = None,
+            }
+        }
     }
 
     fn respond(&mut self, ui: &mut egui::Ui, now: f64) {
         let ctx = ui.ctx().clone();
+        self.start_prefetch();
         let (first, second) = match self.session.design().file.layout {
             crate::design::Layout::Sequential => ("first", "second"),
             crate::design::Layout::Grid => ("top", "bottom"),
