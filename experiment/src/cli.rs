@@ -19,8 +19,8 @@ pub struct RunArgs {
     /// Folder of session logs [default: results/<design name>/sessions].
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// A window of this many physical pixels (e.g. 1280x720) instead of full screen. For
-    /// testing the setup only: subjects should always see the full-screen window.
+    /// A window of this size in logical pixels (e.g. 1280x720) instead of full screen. For
+    /// trying out a design only: subjects should always see the full-screen window.
     #[arg(long, value_parser = parse_size)]
     pub windowed: Option<(u32, u32)>,
     /// Pace frames with timers instead of waiting for the display's vertical sync (for displays

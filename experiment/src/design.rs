@@ -212,7 +212,7 @@ impl Design {
         let folder = path.parent().unwrap_or(Path::new(""));
         Ok(Self {
             path: path.to_path_buf(),
-            manifest_path: folder.join(&file.manifest),
+            manifest_path: lexical_normal(&folder.join(&file.manifest)),
             hash: canonical_hash(&value),
             file,
         })
@@ -275,6 +275,25 @@ impl Design {
             keys::describe(&k.pair2),
         )
     }
+}
+
+/// `a/b/../c` -> `a/c` without touching the file system (for readable messages; a leading
+/// `..` is kept).
+fn lexical_normal(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
 }
 
 /// SHA-256 of the canonical form: serde_json's map is sorted by key, and `to_string` is compact,
@@ -424,7 +443,11 @@ pub(crate) mod tests {
     #[test]
     fn defaults_fill_in_and_manifest_resolves_against_the_design_folder() {
         let d = small();
-        assert_eq!(d.manifest_path, Path::new("designs/../stimuli/small"));
+        assert_eq!(d.manifest_path, Path::new("stimuli/small"));
+        assert_eq!(
+            lexical_normal(Path::new("../a/./b/../../c")),
+            Path::new("../c")
+        );
         assert_eq!(d.file.layout, Layout::Sequential);
         assert_eq!(d.file.playback, Playback::default());
         assert_eq!(d.practice_levels(), vec![1]);

@@ -7,6 +7,7 @@
 //!
 //! `thesis_size_trial_under_xvfb` (ignored; run it in release) measures a thesis-size trial:
 //! preload time, peak memory and frame pacing. See docs/benchmarks/experiment.md.
+//! Set `BLURLAB_BENCH_DIR` to keep its rendered stimuli between runs.
 #![cfg(feature = "gui")]
 
 use experiment::Design;
@@ -65,7 +66,7 @@ impl Drop for Guard {
 
 /// An Xvfb server on a free display number (Xvfb picks it and reports it on `-displayfd`).
 struct Xvfb {
-    _server: Guard,
+    server: Guard,
     display: String,
     runtime_dir: tempfile::TempDir,
 }
@@ -88,7 +89,7 @@ impl Xvfb {
         std::fs::set_permissions(runtime_dir.path(), std::fs::Permissions::from_mode(0o700))
             .unwrap();
         Self {
-            _server: Guard(child),
+            server: Guard(child),
             display: format!(":{}", line.trim()),
             runtime_dir,
         }
@@ -372,6 +373,68 @@ fn pacing(t: &experiment::log::TrialRecord) -> (f64, f64, f64) {
     (q(0.5), q(0.95), d[d.len() - 1])
 }
 
+/// CPU seconds (user + system) a process has used so far.
+fn cpu_seconds(pid: u32) -> f64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+    let Some(rest) = stat.rfind(')').map(|i| &stat[i + 2..]) else {
+        return 0.0;
+    };
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    // Fields 14 and 15 of /proc/<pid>/stat (utime, stime), in 1/100 s clock ticks.
+    (ticks(11) + ticks(12)) / 100.0
+}
+
+fn unix_now() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_secs_f64()
+}
+
+/// Samples (unix time, app CPU s, Xvfb CPU s) every 20 ms until dropped.
+struct CpuSampler {
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    thread: Option<std::thread::JoinHandle<Vec<(f64, f64, f64)>>>,
+}
+
+impl CpuSampler {
+    fn start(app: u32, xvfb: u32) -> Self {
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let flag = stop.clone();
+        let thread = std::thread::spawn(move || {
+            let mut v = Vec::new();
+            while !flag.load(std::sync::atomic::Ordering::Relaxed) {
+                v.push((unix_now(), cpu_seconds(app), cpu_seconds(xvfb)));
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            v
+        });
+        Self {
+            stop,
+            thread: Some(thread),
+        }
+    }
+
+    fn finish(mut self) -> Vec<(f64, f64, f64)> {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        self.thread.take().unwrap().join().unwrap()
+    }
+}
+
+/// CPU seconds used between two unix times (nearest samples; tick resolution 10 ms).
+fn cpu_between(samples: &[(f64, f64, f64)], from: f64, to: f64) -> (f64, f64) {
+    let at = |t: f64| {
+        samples
+            .iter()
+            .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
+            .copied()
+            .unwrap_or_default()
+    };
+    let (a, b) = (at(from), at(to));
+    (b.1 - a.1, b.2 - a.2)
+}
+
 /// Peak resident memory of a process, MiB (VmHWM).
 fn peak_rss_mib(pid: u32) -> f64 {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
@@ -389,18 +452,47 @@ fn thesis_size_trial_under_xvfb() {
     if !gui_tools_present() {
         return;
     }
-    let dir = tempfile::tempdir().unwrap();
+    // BLURLAB_BENCH_DIR keeps the rendered stimuli between runs (the job runner resumes, so a
+    // second run renders nothing); otherwise a temporary folder.
+    let temp = tempfile::tempdir().unwrap();
+    let root =
+        std::env::var_os("BLURLAB_BENCH_DIR").map_or(temp.path().to_path_buf(), PathBuf::from);
+    let _ = std::fs::remove_dir_all(root.join("sessions"));
     let t0 = Instant::now();
-    let study = write_study(dir.path(), &spec(768, 768, 210, 1)).unwrap();
+    let study = write_study(&root, &spec(768, 768, 210, 1)).unwrap();
+    eprintln!("stimuli ready in {:.1} s", t0.elapsed().as_secs_f64());
+    // Decoding alone (what the rayon pool does during a preload), for the breakdown.
+    let design = Design::load(&study.design_path).unwrap();
+    let trial = plan(&design, "m1").main[0].clone();
+    let manifest_path = study.stimuli_dir.join("manifest.json");
+    let manifest = Manifest::load(&manifest_path).unwrap();
+    let jobs: Vec<(VideoSource, usize)> = trial
+        .stimuli()
+        .iter()
+        .flat_map(|id| {
+            let v = VideoSource::from_manifest(&manifest, &manifest_path, id).unwrap();
+            (0..v.frame_paths.len()).map(move |f| (v.clone(), f))
+        })
+        .collect();
+    let t1 = Instant::now();
+    let bytes: usize = {
+        use rayon::prelude::*;
+        jobs.par_iter()
+            .map(|(v, f)| load_frame(v, *f).unwrap().rgb.len())
+            .sum()
+    };
     eprintln!(
-        "rendered the stimuli in {:.1} s",
-        t0.elapsed().as_secs_f64()
+        "decoding {} frames ({} MiB RGB) on the rayon pool: {:.0} ms",
+        jobs.len(),
+        bytes >> 20,
+        t1.elapsed().as_secs_f64() * 1000.0
     );
     let screen = (1920, 1080);
     let x = Xvfb::start(screen.0, screen.1);
     let deadline = Instant::now() + Duration::from_secs(300);
     let mut run = start_app(&x, &study, 1.0, "m1");
     let window = x.find_window("blurlab gui m1", &mut run, deadline);
+    let sampler = CpuSampler::start(run.app.0.id(), x.server.0.id());
     // No screenshots here: they would compete with playback for the CPU. Start the session
     // (the header appears), then answer once the presentation is over.
     while !run.log.exists() {
@@ -414,9 +506,29 @@ fn thesis_size_trial_under_xvfb() {
         std::thread::sleep(Duration::from_millis(300));
     }
     let peak = peak_rss_mib(run.app.0.id());
+    let samples = sampler.finish();
     let log = answer_and_close(&x, &window, &mut run, deadline);
     let t = &log.trials[0];
     let (median, p95, max) = pacing(t);
+    // CPU spent during playback (first drawn frame to last), per drawn frame: what a quiet
+    // core would need to keep up, whatever else the machine was doing.
+    let origin = log.header.started_unix;
+    let from = origin + t.onsets_ms[0] / 1000.0;
+    let to = origin + t.frame_times_ms.last().unwrap() / 1000.0;
+    let (app_cpu, xvfb_cpu) = cpu_between(&samples, from, to);
+    let drawn = t.frame_times_ms.len() as f64;
+    eprintln!(
+        "playback {:.1} s: app CPU {:.2} s ({:.1} ms per drawn frame), Xvfb CPU {:.2} s ({:.1} ms \
+         per drawn frame); load average {}",
+        to - from,
+        app_cpu,
+        1000.0 * app_cpu / drawn,
+        xvfb_cpu,
+        1000.0 * xvfb_cpu / drawn,
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+    );
     eprintln!(
         "thesis-size trial (2 videos x 210 frames of 768x768, 30 fps, Xvfb {}x{}, glow/llvmpipe, \
          no vsync): preload {:.0} ms, peak RSS {:.0} MiB, refresh interval measured {:.2} ms, \

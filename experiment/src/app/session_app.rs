@@ -205,8 +205,6 @@ impl SessionApp {
         if self.cover_monitor {
             self.enforce_cover(&ctx);
         }
-        ui.painter()
-            .rect_filled(ctx.viewport_rect(), 0.0, self.background);
         if let Some(msg) = self.fatal.clone() {
             screens::message(ui, "The session stopped", &msg, "Press Esc to close.");
             if ctx.input(|i| i.key_pressed(Key::Escape)) {
@@ -633,5 +631,12 @@ impl SessionApp {
 impl eframe::App for SessionApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         self.show(ui);
+    }
+
+    /// The design's background is the clear colour: no full-screen quad to shade every frame
+    /// (a software renderer pays for every pixel). Gamma-space values k / 255 are written back
+    /// as exactly k.
+    fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
+        self.background.to_normalized_gamma_f32()
     }
 }
