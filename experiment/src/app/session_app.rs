@@ -233,12 +233,15 @@ impl SessionApp {
         }
         match self.session.stage() {
             Stage::Instructions => self.instructions(ui, now),
-            Stage::PracticeDone => self.screen(
-                ui,
-                "Practice is over",
-                "The experiment starts now. It works exactly like the practice, without being \
-                 told whether you were right.",
-            ),
+            Stage::PracticeDone => {
+                let body = if self.session.design().file.practice.feedback {
+                    "The experiment starts now. It works exactly like the practice, without \
+                     being told whether you were right."
+                } else {
+                    "The experiment starts now. It works exactly like the practice."
+                };
+                self.screen(ui, "Practice is over", body);
+            }
             Stage::Break => self.break_screen(ui),
             Stage::Finished => {
                 screens::message(
