@@ -19,6 +19,10 @@ enum Command {
     },
     /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
     Analyze(analysis::cli::AnalyzeArgs),
+    /// Run a subject's session (full screen; continues an interrupted session).
+    Run(experiment::cli::RunArgs),
+    /// Run simulated subjects through a design, writing their session logs.
+    Simulate(experiment::cli::SimulateArgs),
 }
 
 fn main() {
@@ -26,6 +30,8 @@ fn main() {
     let result = match cli.command {
         Command::Render { command } => renderer::cli::run(command),
         Command::Analyze(args) => analysis::cli::run(args),
+        Command::Run(args) => experiment::cli::run(args),
+        Command::Simulate(args) => experiment::cli::simulate(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -1,5 +1,27 @@
 //! Subject sessions for the two-pair method of constant stimuli (thesis Chapter IV): the design
-//! file, per-subject trial lists, the append-only session log, resume, simulated observers and
-//! (feature `gui`) the egui/eframe presentation app.
+//! file, per-subject trial lists, the append-only session log, resume, preflight checks of the
+//! stimuli, simulated observers and (feature `gui`) the egui/eframe presentation app.
+//!
+//! The library part has no GUI dependency: the analysis and the simulator use it headless.
 
+#[cfg(feature = "gui")]
+pub mod app;
+pub mod cli;
+pub mod design;
+pub mod fixture;
+pub mod frames;
+pub mod keys;
+pub mod layout;
 pub mod log;
+pub mod log_writer;
+pub mod observer;
+pub mod preflight;
+pub mod presentation;
+pub mod refresh;
+pub mod session;
+pub mod simulate;
+pub mod trials;
+
+pub use design::Design;
+pub use observer::Observer;
+pub use session::{Session, Stage};

@@ -1,6 +1,8 @@
 //! The session log (`results/<study>/sessions/<subject>.jsonl`), format `blurlab-session/1`:
 //! JSON Lines, append-only. The first line is the [`Header`]; every completed trial adds one
-//! [`TrialRecord`] line, written, flushed and synced before the next trial starts.
+//! [`TrialRecord`] line, written, flushed and synced before the next trial starts (see
+//! [`crate::log_writer`]). A session continued after an interruption adds a [`Resume`] line
+//! where it picked up.
 //! A torn last line (a crash mid-write) is ignored with a warning; any other bad line is an error
 //! naming the file and line number.
 
@@ -17,6 +19,25 @@ pub const LOG_FORMAT: &str = "blurlab-session/1";
 pub enum LogLine {
     Header(Header),
     Trial(TrialRecord),
+    Resume(Resume),
+}
+
+/// Where an interrupted session was continued: the trials before it stand, the trials after it
+/// were presented by the run described here.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Resume {
+    /// Seconds since the Unix epoch when the session was continued (0 for simulated sessions).
+    pub started_unix: f64,
+    pub app_version: String,
+    /// Practice and main trials already answered.
+    pub practice_done: u32,
+    pub trials_done: u32,
+    /// The display of the continued run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub display: Option<Display>,
+    /// What the reader tolerated when reopening (a torn last line).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// What the session is: who, which design, how it was randomized, on what display.
@@ -100,6 +121,12 @@ pub struct TrialRecord {
     /// Frames whose index skipped during playback.
     #[serde(default)]
     pub dropped_frames: u32,
+    /// Times the subject paused (Esc) during this trial; a pause during playback restarts it.
+    #[serde(default)]
+    pub pauses: u32,
+    /// Milliseconds spent loading the trial's frames before it could start (0 when simulated).
+    #[serde(default)]
+    pub preload_ms: f64,
 }
 
 /// A whole log read back.
@@ -108,6 +135,8 @@ pub struct SessionLog {
     pub path: PathBuf,
     pub header: Header,
     pub trials: Vec<TrialRecord>,
+    /// Where the session was continued after an interruption.
+    pub resumes: Vec<Resume>,
     /// Problems that were tolerated (a torn last line).
     pub warnings: Vec<String>,
 }
@@ -126,11 +155,13 @@ impl SessionLog {
     }
 }
 
-fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
+/// Parse a log's text; `path` names it in messages.
+pub(crate) fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
     let torn_tail = !text.is_empty() && !text.ends_with('\n');
     let lines: Vec<&str> = text.lines().collect();
     let mut header = None;
     let mut trials = Vec::new();
+    let mut resumes = Vec::new();
     let mut warnings = Vec::new();
     for (i, line) in lines.iter().enumerate() {
         let lineno = i + 1;
@@ -158,6 +189,10 @@ fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
                 bail!("{}:{lineno}: trial before the header line", path.display())
             }
             Ok(LogLine::Trial(t)) => trials.push(t),
+            Ok(LogLine::Resume(_)) if header.is_none() => {
+                bail!("{}:{lineno}: resume line before the header line", path.display())
+            }
+            Ok(LogLine::Resume(r)) => resumes.push(r),
             Err(e) if is_last && torn_tail => warnings.push(format!(
                 "{}:{lineno}: ignoring an incomplete last line (the session was interrupted while writing it): {e}",
                 path.display()
@@ -172,6 +207,7 @@ fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
         path: path.to_path_buf(),
         header,
         trials,
+        resumes,
         warnings,
     })
 }
@@ -215,6 +251,8 @@ mod tests {
             onsets_ms: vec![],
             frame_times_ms: vec![],
             dropped_frames: 0,
+            pauses: 0,
+            preload_ms: 0.0,
         }
     }
 

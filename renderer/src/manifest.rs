@@ -122,6 +122,31 @@ impl Manifest {
     }
 }
 
+/// The manifest's `content_hash` of a video: SHA-256 over its display frames' file bytes, in
+/// playback order, as lowercase hex. The runner writes it and the experiment's preflight checks
+/// it, both through this type, so the two can never disagree on the definition.
+#[derive(Clone, Default)]
+pub struct ContentHash(sha2::Sha256);
+
+impl ContentHash {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Add the next frame's file bytes.
+    pub fn add_frame(&mut self, png_bytes: &[u8]) {
+        sha2::Digest::update(&mut self.0, png_bytes);
+    }
+
+    /// The hash as lowercase hex.
+    pub fn finish(self) -> String {
+        sha2::Digest::finalize(self.0)
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect()
+    }
+}
+
 /// `path` itself if it names a file, else `path/manifest.json`.
 pub fn manifest_file(path: &Path) -> PathBuf {
     if path.extension().is_some_and(|e| e == "json") {

@@ -401,7 +401,7 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
     for (s, spec) in plan.specs.iter().enumerate() {
         let setup = plan.setups[s];
         let dir = stimulus_dir(job_dir, spec);
-        let mut hasher = <sha2::Sha256 as sha2::Digest>::new();
+        let mut hasher = manifest::ContentHash::new();
         let mut seconds = 0.0;
         let mut acc = ErrorAccumulator::default();
         let mut frame_paths = Vec::new();
@@ -420,7 +420,7 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
                     record::png_path(&dir, f).display()
                 );
             }
-            sha2::Digest::update(&mut hasher, &png);
+            hasher.add_frame(&png);
             seconds += rec.render_seconds;
             if let Some(e) = &rec.error {
                 acc.add(e);
@@ -431,7 +431,6 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
             }
         }
         remove_temp_files(&dir);
-        let hash = sha2::Digest::finalize(hasher);
         m.stimuli.push(manifest::Stimulus {
             id: spec.id.clone(),
             scene: spec.scene.clone(),
@@ -446,7 +445,7 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
             fps: setup.fps,
             frame_paths,
             exr_paths,
-            content_hash: hash.iter().map(|b| format!("{b:02x}")).collect(),
+            content_hash: hasher.finish(),
             render_seconds: seconds,
             error: if spec.reference { None } else { acc.finish() },
         });

@@ -1,0 +1,119 @@
+//! The command lines `run` and `simulate`, as clap `Args` the umbrella binary embeds
+//! (`blurlab run ...`, `blurlab simulate ...`) and the crate's own `experiment` binary reuses.
+
+use crate::design::Design;
+use crate::observer::Observer;
+use anyhow::Result;
+use clap::Args;
+use std::path::{Path, PathBuf};
+
+/// Run a subject's session in a full-screen window (continues an interrupted one).
+#[derive(Args, Clone, Debug)]
+pub struct RunArgs {
+    /// The design file (blurlab-design/1).
+    #[arg(long)]
+    pub design: PathBuf,
+    /// The subject's id (letters, digits, - and _); names the log file.
+    #[arg(long)]
+    pub subject: String,
+    /// Folder of session logs [default: results/<design name>/sessions].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// A window of this size in logical pixels (e.g. 1280x720) instead of full screen. For
+    /// trying out a design only: subjects should always see the full-screen window.
+    #[arg(long, value_parser = parse_size)]
+    pub windowed: Option<(u32, u32)>,
+    /// Pace frames with timers instead of waiting for the display's vertical sync (for displays
+    /// without vsync, such as Xvfb). Real sessions should keep vsync.
+    #[arg(long)]
+    pub no_vsync: bool,
+    /// Skip the content-hash check of preflight (sizes and frame counts are still checked).
+    #[arg(long)]
+    pub skip_hash_check: bool,
+}
+
+/// Run simulated subjects through a design (the same trial lists and log format).
+#[derive(Args, Clone, Debug)]
+pub struct SimulateArgs {
+    /// The design file (blurlab-design/1).
+    #[arg(long)]
+    pub design: PathBuf,
+    /// The observer file (blurlab-observer/1).
+    #[arg(long)]
+    pub observer: PathBuf,
+    /// Number of subjects (named s01, s02, ...).
+    #[arg(long, default_value_t = 12)]
+    pub subjects: usize,
+    /// Folder of session logs [default: results/<design name>/sessions]; simulated logs of the
+    /// same subject names are replaced.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once('x')
+        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720"))?;
+    let n = |v: &str| {
+        v.parse::<u32>()
+            .ok()
+            .filter(|&x| x > 0)
+            .ok_or_else(|| format!("{s:?}: expected positive whole pixel counts"))
+    };
+    Ok((n(w)?, n(h)?))
+}
+
+/// `results/<design name>/sessions` unless given.
+pub fn sessions_dir(out: Option<&Path>, design: &Design) -> PathBuf {
+    out.map(Path::to_path_buf).unwrap_or_else(|| {
+        PathBuf::from("results")
+            .join(design.name())
+            .join("sessions")
+    })
+}
+
+/// `simulate`: write one log per simulated subject and say where.
+pub fn simulate(args: SimulateArgs) -> Result<()> {
+    let design = Design::load(&args.design)?;
+    let observer = Observer::load(&args.observer)?;
+    let out = sessions_dir(args.out.as_deref(), &design);
+    let paths = crate::simulate::simulate(&design, &observer, args.subjects, &out)?;
+    eprintln!(
+        "simulated {} subjects x {} trials of design {:?} with observer {:?} into {}",
+        paths.len(),
+        design.main_trial_count(),
+        design.name(),
+        observer.file.name,
+        out.display()
+    );
+    Ok(())
+}
+
+/// `run`: a subject's session in the window.
+#[cfg(feature = "gui")]
+pub fn run(args: RunArgs) -> Result<()> {
+    crate::app::launch(&args)
+}
+
+/// `run` without the window: explain how to get it.
+#[cfg(not(feature = "gui"))]
+pub fn run(args: RunArgs) -> Result<()> {
+    let _ = args;
+    anyhow::bail!(
+        "this build has no session window (it was built without the `gui` feature). Build with \
+         it: `cargo build --release` (the feature is on by default) or \
+         `cargo build --release --features gui`"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn window_sizes_parse_or_explain() {
+        assert_eq!(parse_size("1280x720"), Ok((1280, 720)));
+        assert!(parse_size("1280").unwrap_err().contains("WIDTHxHEIGHT"));
+        assert!(parse_size("0x10").is_err());
+    }
+}

@@ -1,0 +1,555 @@
+//! The design file (`scenes/designs/<name>.json`, format `blurlab-design/1`): which stimuli a
+//! study shows and how. Factors (scenes x point sets x time filters) and test levels pick the
+//! test videos by their manifest ids; every field past `seed` has a default (see
+//! `docs/experiment.md`). [`Design::load`] validates everything a session relies on, naming the
+//! file and the field of every problem.
+
+use crate::keys::{self, RESERVED_KEYS};
+use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// The format tag every design file carries; readers refuse any other.
+pub const DESIGN_FORMAT: &str = "blurlab-design/1";
+
+/// The design file as written on disk.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DesignFile {
+    /// Always [`DESIGN_FORMAT`].
+    pub format: String,
+    /// The study's name: the default results folder is `results/<name>/sessions`.
+    pub name: String,
+    /// The stimulus manifest (file or folder), relative to the design file.
+    pub manifest: String,
+    pub factors: Factors,
+    /// Samples per pixel of the test videos.
+    pub levels: Vec<u32>,
+    /// Which video every pair compares against.
+    #[serde(default)]
+    pub reference: ReferenceChoice,
+    /// Trials per condition x level (the thesis: 4).
+    #[serde(default = "default_repeats")]
+    pub repeats: u32,
+    #[serde(default)]
+    pub layout: Layout,
+    #[serde(default)]
+    pub playback: Playback,
+    /// A break screen after every this many main trials (0: no breaks).
+    #[serde(default = "default_break_every")]
+    pub break_every: u32,
+    #[serde(default)]
+    pub practice: Practice,
+    #[serde(default)]
+    pub keys: ResponseKeys,
+    pub seed: SeedScheme,
+    /// Text of the instructions screen (a default explains the task and the keys).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instructions: Option<String>,
+}
+
+/// The crossed factors; a condition is one scene x point set x time filter.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Factors {
+    pub scenes: Vec<String>,
+    pub point_sets: Vec<String>,
+    pub time_filters: Vec<String>,
+}
+
+/// The reference video of each scene.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+#[serde(rename_all = "snake_case")]
+pub enum ReferenceChoice {
+    /// The manifest's reference of the scene (id `<scene>-reference`).
+    #[default]
+    SceneReference,
+    /// An explicit stimulus id per scene.
+    Stimuli(BTreeMap<String, String>),
+}
+
+/// How the four videos of a trial are arranged.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Layout {
+    /// The thesis: pair 1, a gap, then pair 2; each pair's two videos side by side.
+    #[default]
+    Sequential,
+    /// All four at once: pair 1 the top row, pair 2 the bottom row.
+    Grid,
+}
+
+/// Timing and appearance of a presentation.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct Playback {
+    /// Times each pair's video plays through.
+    pub loops: u32,
+    /// Fixation cross before the first pair, milliseconds.
+    pub fixation_ms: u32,
+    /// Blank screen between the pairs (sequential layout), milliseconds.
+    pub gap_ms: u32,
+    /// Physical pixels between neighbouring videos.
+    pub spacing_px: u32,
+    /// Screen colour around the videos, 8-bit sRGB.
+    pub background: [u8; 3],
+}
+
+impl Default for Playback {
+    fn default() -> Self {
+        Self {
+            loops: 1,
+            fixation_ms: 500,
+            gap_ms: 1000,
+            spacing_px: 32,
+            background: [0, 0, 0],
+        }
+    }
+}
+
+/// Practice trials before the main trials: logged with `practice: true`, never analyzed.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct Practice {
+    pub trials: u32,
+    /// Levels practice draws from (default: the lowest test level, the easiest).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub levels: Option<Vec<u32>>,
+    /// Tell the subject after each practice answer whether it was right.
+    pub feedback: bool,
+}
+
+impl Default for Practice {
+    fn default() -> Self {
+        Self {
+            trials: 4,
+            levels: None,
+            feedback: true,
+        }
+    }
+}
+
+/// Keys that answer "pair 1" and "pair 2" (egui key names: `1`, `ArrowLeft`, `A`, ...).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ResponseKeys {
+    pub pair1: Vec<String>,
+    pub pair2: Vec<String>,
+}
+
+impl Default for ResponseKeys {
+    fn default() -> Self {
+        Self {
+            pair1: vec!["1".into(), "ArrowLeft".into()],
+            pair2: vec!["2".into(), "ArrowRight".into()],
+        }
+    }
+}
+
+/// Where each subject's randomization comes from.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SeedScheme {
+    pub master: u64,
+    #[serde(default)]
+    pub scheme: SeedKind,
+}
+
+/// How a subject's seed derives from the master seed.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SeedKind {
+    /// `hash(master, [name_id(subject)])`: every subject has their own order.
+    #[default]
+    PerSubject,
+    /// The master seed itself: every subject sees the same order (pilots, demonstrations).
+    Shared,
+}
+
+fn default_repeats() -> u32 {
+    4
+}
+fn default_break_every() -> u32 {
+    48
+}
+
+/// A loaded, validated design.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Design {
+    /// Where it was loaded from (for messages).
+    pub path: PathBuf,
+    pub file: DesignFile,
+    /// The manifest path resolved against the design file's folder.
+    pub manifest_path: PathBuf,
+    /// SHA-256 of the file's canonical JSON (keys sorted, no whitespace), lowercase hex.
+    pub hash: String,
+}
+
+impl Design {
+    /// Read, parse and validate a design file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read design file {}", path.display()))?;
+        Self::parse(path, &text)
+    }
+
+    /// Parse and validate design text; `path` names it in messages and anchors `manifest`.
+    pub fn parse(path: &Path, text: &str) -> Result<Self> {
+        let value: serde_json::Value = serde_json::from_str(text)
+            .with_context(|| format!("{}: not valid JSON", path.display()))?;
+        let format = value.get("format").and_then(|f| f.as_str());
+        if format != Some(DESIGN_FORMAT) {
+            bail!(
+                "{}: field `format` is {:?}; this version reads {DESIGN_FORMAT:?}",
+                path.display(),
+                value.get("format")
+            );
+        }
+        let file: DesignFile = serde_json::from_value(value.clone())
+            .with_context(|| format!("{}: not a valid design", path.display()))?;
+        validate(&file).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let folder = path.parent().unwrap_or(Path::new(""));
+        Ok(Self {
+            path: path.to_path_buf(),
+            manifest_path: lexical_normal(&folder.join(&file.manifest)),
+            hash: canonical_hash(&value),
+            file,
+        })
+    }
+
+    pub fn name(&self) -> &str {
+        &self.file.name
+    }
+
+    /// The practice levels with the default filled in.
+    pub fn practice_levels(&self) -> Vec<u32> {
+        match &self.file.practice.levels {
+            Some(l) => l.clone(),
+            None => self.file.levels.iter().min().into_iter().copied().collect(),
+        }
+    }
+
+    /// The reference stimulus id of a scene.
+    pub fn reference_id(&self, scene: &str) -> String {
+        match &self.file.reference {
+            ReferenceChoice::SceneReference => renderer::job::expand::reference_id(scene),
+            ReferenceChoice::Stimuli(m) => m[scene].clone(),
+        }
+    }
+
+    /// The seed of one subject's trial list.
+    pub fn subject_seed(&self, subject: &str) -> u64 {
+        let s = &self.file.seed;
+        match s.scheme {
+            SeedKind::PerSubject => {
+                renderer::hash::hash(s.master, &[renderer::hash::name_id(subject)])
+            }
+            SeedKind::Shared => s.master,
+        }
+    }
+
+    /// Main trials per subject.
+    pub fn main_trial_count(&self) -> u32 {
+        let f = &self.file.factors;
+        (f.scenes.len() * f.point_sets.len() * f.time_filters.len() * self.file.levels.len()) as u32
+            * self.file.repeats
+    }
+
+    /// The instructions text, default or given.
+    pub fn instructions(&self) -> String {
+        if let Some(t) = &self.file.instructions {
+            return t.clone();
+        }
+        let k = &self.file.keys;
+        let (first, second) = match self.file.layout {
+            Layout::Sequential => ("first pair", "second pair"),
+            Layout::Grid => ("top pair", "bottom pair"),
+        };
+        format!(
+            "Each trial shows two pairs of videos. In one pair both videos are the same; in the \
+             other they differ in noise. Watch both pairs, then say which pair differed: press {} \
+             for the {first}, {} for the {second}. If you are unsure, guess.\n\n\
+             Press Esc at any time to pause.",
+            keys::describe(&k.pair1),
+            keys::describe(&k.pair2),
+        )
+    }
+}
+
+/// `a/b/../c` -> `a/c` without touching the file system (for readable messages; a leading
+/// `..` is kept).
+fn lexical_normal(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// SHA-256 of the canonical form: serde_json's map is sorted by key, and `to_string` is compact,
+/// so whitespace and key order in the file do not change the hash but any value does.
+fn canonical_hash(value: &serde_json::Value) -> String {
+    use sha2::Digest;
+    let canonical = serde_json::to_string(value).expect("a parsed Value serializes");
+    sha2::Sha256::digest(canonical.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// Every check a session relies on; the message names the field.
+fn validate(f: &DesignFile) -> Result<()> {
+    if f.name.is_empty() || !f.name.chars().all(is_name_char) {
+        bail!(
+            "field `name` is {:?}; expected letters, digits, `-` or `_` (it names a folder)",
+            f.name
+        );
+    }
+    if f.manifest.is_empty() {
+        bail!("field `manifest` is empty; expected the stimulus manifest's path");
+    }
+    names("factors.scenes", &f.factors.scenes)?;
+    names("factors.point_sets", &f.factors.point_sets)?;
+    names("factors.time_filters", &f.factors.time_filters)?;
+    levels("levels", &f.levels)?;
+    if f.repeats == 0 {
+        bail!("field `repeats` is 0; expected at least 1 trial per condition and level");
+    }
+    if f.playback.loops == 0 {
+        bail!("field `playback.loops` is 0; expected at least 1");
+    }
+    if let ReferenceChoice::Stimuli(m) = &f.reference {
+        for scene in &f.factors.scenes {
+            if m.get(scene).is_none_or(|id| id.is_empty()) {
+                bail!("field `reference.stimuli` names no reference stimulus for scene {scene:?}");
+            }
+        }
+    }
+    if let Some(l) = &f.practice.levels {
+        levels("practice.levels", l)?;
+        if let Some(x) = l.iter().find(|x| !f.levels.contains(x)) {
+            bail!(
+                "field `practice.levels` holds {x}, which is not among `levels` {:?}; practice \
+                 uses the study's stimuli",
+                f.levels
+            );
+        }
+    }
+    validate_keys(&f.keys)
+}
+
+fn validate_keys(k: &ResponseKeys) -> Result<()> {
+    for (field, list) in [("keys.pair1", &k.pair1), ("keys.pair2", &k.pair2)] {
+        if list.is_empty() {
+            bail!("field `{field}` is empty; expected at least one key");
+        }
+        for key in list {
+            if !keys::is_known(key) {
+                bail!(
+                    "field `{field}` holds {key:?}, not a key name this app knows; use one of {}",
+                    keys::KNOWN_KEYS.join(", ")
+                );
+            }
+            if RESERVED_KEYS.contains(&keys::canonical(key)) {
+                bail!(
+                    "field `{field}` holds {key:?}, which the app reserves (Esc pauses, Space continues)"
+                );
+            }
+        }
+    }
+    let one: BTreeSet<&str> = k.pair1.iter().map(|s| keys::canonical(s)).collect();
+    if let Some(both) = k.pair2.iter().find(|s| one.contains(keys::canonical(s))) {
+        bail!("fields `keys.pair1` and `keys.pair2` both hold {both:?}");
+    }
+    Ok(())
+}
+
+fn is_name_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '-' || c == '_'
+}
+
+fn names(field: &str, list: &[String]) -> Result<()> {
+    if list.is_empty() {
+        bail!("field `{field}` is empty; expected at least one name");
+    }
+    let mut seen = BTreeSet::new();
+    for n in list {
+        if n.is_empty() {
+            bail!("field `{field}` holds an empty name");
+        }
+        if !seen.insert(n) {
+            bail!("field `{field}` names {n:?} twice");
+        }
+    }
+    Ok(())
+}
+
+fn levels(field: &str, list: &[u32]) -> Result<()> {
+    if list.is_empty() {
+        bail!("field `{field}` is empty; expected samples-per-pixel levels");
+    }
+    if list.contains(&0) {
+        bail!("field `{field}` holds 0; expected samples per pixel >= 1");
+    }
+    let set: BTreeSet<_> = list.iter().collect();
+    if set.len() != list.len() {
+        bail!("field `{field}` holds a level twice: {list:?}");
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    pub(crate) const SMALL: &str = r#"{
+        "format": "blurlab-design/1",
+        "name": "small",
+        "manifest": "../stimuli/small",
+        "factors": {"scenes": ["plane", "spheres"], "point_sets": ["hammersley", "poisson"],
+                    "time_filters": ["box"]},
+        "levels": [1, 8, 27],
+        "repeats": 3,
+        "seed": {"master": 7}
+    }"#;
+
+    pub(crate) fn small() -> Design {
+        Design::parse(Path::new("designs/small.json"), SMALL).unwrap()
+    }
+
+    fn err(text: &str) -> String {
+        format!(
+            "{:#}",
+            Design::parse(Path::new("d.json"), text).unwrap_err()
+        )
+    }
+
+    fn edit(f: impl FnOnce(&mut serde_json::Value)) -> String {
+        let mut v: serde_json::Value = serde_json::from_str(SMALL).unwrap();
+        f(&mut v);
+        v.to_string()
+    }
+
+    #[test]
+    fn defaults_fill_in_and_manifest_resolves_against_the_design_folder() {
+        let d = small();
+        assert_eq!(d.manifest_path, Path::new("stimuli/small"));
+        assert_eq!(
+            lexical_normal(Path::new("../a/./b/../../c")),
+            Path::new("../c")
+        );
+        assert_eq!(d.file.layout, Layout::Sequential);
+        assert_eq!(d.file.playback, Playback::default());
+        assert_eq!(d.practice_levels(), vec![1]);
+        assert_eq!(d.main_trial_count(), 2 * 2 * 3 * 3);
+        assert_eq!(d.reference_id("plane"), "plane-reference");
+        assert_ne!(d.subject_seed("a"), d.subject_seed("b"));
+    }
+
+    #[test]
+    fn hash_ignores_layout_of_the_text_but_not_values() {
+        let a = small();
+        let reordered = edit(|_| {});
+        let b = Design::parse(Path::new("x.json"), &reordered).unwrap();
+        assert_eq!(a.hash, b.hash);
+        let c = Design::parse(
+            Path::new("x.json"),
+            &edit(|v| v["repeats"] = serde_json::json!(4)),
+        )
+        .unwrap();
+        assert_ne!(a.hash, c.hash);
+    }
+
+    #[test]
+    fn errors_name_the_file_and_the_field() {
+        let cases: Vec<(String, &str)> = vec![
+            (
+                edit(|v| v["format"] = "blurlab-design/2".into()),
+                "`format`",
+            ),
+            (
+                edit(|v| v["levels"] = serde_json::json!([1, 0])),
+                "`levels`",
+            ),
+            (
+                edit(|v| v["levels"] = serde_json::json!([8, 8])),
+                "`levels`",
+            ),
+            (edit(|v| v["repeats"] = serde_json::json!(0)), "`repeats`"),
+            (edit(|v| v["name"] = "a/b".into()), "`name`"),
+            (
+                edit(|v| v["factors"]["scenes"] = serde_json::json!([])),
+                "`factors.scenes`",
+            ),
+            (
+                edit(|v| v["factors"]["point_sets"] = serde_json::json!(["a", "a"])),
+                "`factors.point_sets`",
+            ),
+            (
+                edit(|v| v["keys"] = serde_json::json!({"pair1": ["1"], "pair2": ["1"]})),
+                "`keys.pair1` and `keys.pair2`",
+            ),
+            (
+                edit(|v| v["keys"] = serde_json::json!({"pair1": ["Bogus"], "pair2": ["2"]})),
+                "`keys.pair1`",
+            ),
+            (
+                edit(|v| v["keys"] = serde_json::json!({"pair1": ["Space"], "pair2": ["2"]})),
+                "reserves",
+            ),
+            (
+                edit(|v| v["practice"] = serde_json::json!({"levels": [64]})),
+                "`practice.levels`",
+            ),
+            (
+                edit(|v| v["reference"] = serde_json::json!({"stimuli": {"plane": "p-ref"}})),
+                "\"spheres\"",
+            ),
+            (
+                edit(|v| v["playback"] = serde_json::json!({"loops": 0})),
+                "`playback.loops`",
+            ),
+            (edit(|v| v["surprise"] = 1.into()), "surprise"),
+        ];
+        for (text, field) in cases {
+            let e = err(&text);
+            assert!(e.starts_with("d.json"), "{e}");
+            assert!(e.contains(field), "expected {field} in: {e}");
+        }
+    }
+
+    #[test]
+    fn explicit_references_and_shared_seeds() {
+        let text = edit(|v| {
+            v["reference"] =
+                serde_json::json!({"stimuli": {"plane": "plane-x", "spheres": "spheres-y"}});
+            v["seed"] = serde_json::json!({"master": 9, "scheme": "shared"});
+        });
+        let d = Design::parse(Path::new("d.json"), &text).unwrap();
+        assert_eq!(d.reference_id("spheres"), "spheres-y");
+        assert_eq!(d.subject_seed("a"), 9);
+        assert_eq!(d.subject_seed("b"), 9);
+    }
+
+    #[test]
+    fn committed_designs_load() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/designs");
+        for name in ["demo.json", "thesis.json"] {
+            let d = Design::load(&root.join(name)).unwrap();
+            assert!(d.main_trial_count() > 0);
+        }
+        let thesis = Design::load(&root.join("thesis.json")).unwrap();
+        // The thesis: 2 scenes x 3 point sets x 8 levels x 4 repeats.
+        assert_eq!(thesis.main_trial_count(), 192);
+    }
+}

@@ -1,0 +1,320 @@
+//! One trial's presentation as a clock-driven sequence of steps, with no GUI types: the app asks
+//! [`Presentation::tick`] what to draw at each repaint, tests drive it with made-up times.
+//!
+//! ```text
+//! sequential: fixation -> pair 1 (loops x video) -> gap -> pair 2 (loops x video) -> respond
+//! grid:       fixation -> both pairs at once (loops x video)                      -> respond
+//! ```
+//!
+//! A step starts at the first repaint that shows it (so a pair's first drawn frame is always its
+//! frame 0, and both videos of a pair, drawn in the same repaint, start on the same display
+//! frame). The video frame shown is floor((t - onset) fps): frames follow the clock, never the
+//! repaint count, so a late repaint skips frames instead of slowing the video. Every skipped
+//! frame is counted as dropped, so `frames shown + dropped = frames x loops` for each pair.
+
+use crate::design::{Design, Layout};
+use crate::session::Timing;
+
+/// Which pair a playback step shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pairs {
+    /// Pair 1 or 2 alone (sequential layout).
+    One(u8),
+    /// Both (grid layout).
+    Both,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Step {
+    Fixation(f64),
+    Play(Pairs),
+    Gap(f64),
+    Respond,
+}
+
+/// What to draw now.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum View {
+    Fixation,
+    /// Pair(s) at video frame `frame`.
+    Play {
+        pairs: Pairs,
+        frame: u32,
+    },
+    /// The screen between the pairs.
+    Gap,
+    /// Ask for the answer.
+    Respond,
+}
+
+/// The presentation of one trial.
+#[derive(Clone, Debug)]
+pub struct Presentation {
+    steps: Vec<Step>,
+    current: usize,
+    step_start: Option<f64>,
+    frames: u32,
+    fps: f64,
+    loops: u32,
+    /// Last video frame index (counting loops) shown in the current playback step.
+    last_index: Option<u64>,
+    onsets_ms: Vec<f64>,
+    frame_times_ms: Vec<f64>,
+    dropped: u32,
+}
+
+impl Presentation {
+    /// A presentation of videos with `frames` frames at `fps` under the design's playback.
+    pub fn new(design: &Design, frames: u32, fps: f64) -> Self {
+        let p = &design.file.playback;
+        let fixation = Step::Fixation(p.fixation_ms as f64 / 1000.0);
+        let steps = match design.file.layout {
+            Layout::Sequential => vec![
+                fixation,
+                Step::Play(Pairs::One(1)),
+                Step::Gap(p.gap_ms as f64 / 1000.0),
+                Step::Play(Pairs::One(2)),
+                Step::Respond,
+            ],
+            Layout::Grid => vec![fixation, Step::Play(Pairs::Both), Step::Respond],
+        };
+        Self {
+            steps,
+            current: 0,
+            step_start: None,
+            frames: frames.max(1),
+            fps,
+            loops: p.loops,
+            last_index: None,
+            onsets_ms: Vec::new(),
+            frame_times_ms: Vec::new(),
+            dropped: 0,
+        }
+    }
+
+    fn total_frames(&self) -> u64 {
+        self.frames as u64 * self.loops as u64
+    }
+
+    /// What to show at `now` (seconds on the session's clock), recording onsets, frame times
+    /// and drops.
+    pub fn tick(&mut self, now: f64) -> View {
+        loop {
+            let step = self.steps[self.current];
+            let first = self.step_start.is_none();
+            let start = *self.step_start.get_or_insert(now);
+            let elapsed = now - start;
+            match step {
+                Step::Fixation(d) | Step::Gap(d) if elapsed >= d => self.next_step(),
+                Step::Fixation(_) => return View::Fixation,
+                Step::Gap(_) => return View::Gap,
+                Step::Respond => return View::Respond,
+                Step::Play(pairs) => {
+                    if first {
+                        self.onsets_ms.push(now * 1000.0);
+                        self.last_index = None;
+                    }
+                    let index = (elapsed * self.fps).floor() as u64;
+                    if index >= self.total_frames() {
+                        // Frames due before the end but never drawn were dropped too.
+                        let shown_to = self.last_index.map_or(0, |l| l + 1);
+                        self.dropped += (self.total_frames() - shown_to) as u32;
+                        self.next_step();
+                        continue;
+                    }
+                    if self.last_index != Some(index) {
+                        let expected = self.last_index.map_or(0, |l| l + 1);
+                        self.dropped += (index - expected) as u32;
+                        self.frame_times_ms.push(now * 1000.0);
+                        self.last_index = Some(index);
+                    }
+                    return View::Play {
+                        pairs,
+                        frame: (index % self.frames as u64) as u32,
+                    };
+                }
+            }
+        }
+    }
+
+    fn next_step(&mut self) {
+        self.current = (self.current + 1).min(self.steps.len() - 1);
+        self.step_start = None;
+    }
+
+    /// Seconds from `now` until what is shown next changes (a frame boundary or the end of a
+    /// timed step); `None` while waiting for the answer.
+    pub fn next_change(&self, now: f64) -> Option<f64> {
+        let start = self.step_start.unwrap_or(now);
+        match self.steps[self.current] {
+            Step::Fixation(d) | Step::Gap(d) => Some((start + d - now).max(0.0)),
+            Step::Play(_) => {
+                let next = self.last_index.map_or(0, |l| l + 1) as f64;
+                Some((start + next / self.fps - now).max(0.0))
+            }
+            Step::Respond => None,
+        }
+    }
+
+    /// Whether the videos are playing (repaint every display refresh).
+    pub fn playing(&self) -> bool {
+        matches!(self.steps[self.current], Step::Play(_))
+    }
+
+    /// Whether the presentation is over and the answer is due.
+    pub fn responding(&self) -> bool {
+        matches!(self.steps[self.current], Step::Respond)
+    }
+
+    /// Milliseconds from the first repaint of the response step to `now`.
+    pub fn response_time_ms(&self, now: f64) -> f64 {
+        match (self.responding(), self.step_start) {
+            (true, Some(s)) => (now - s).max(0.0) * 1000.0,
+            _ => 0.0,
+        }
+    }
+
+    /// After a pause of `paused` seconds: a presentation cut short is shown again from the
+    /// start (what was seen of it is discarded); while responding, the pause is left out of
+    /// the response time.
+    pub fn after_pause(&mut self, paused: f64) {
+        if self.responding() {
+            if let Some(s) = self.step_start.as_mut() {
+                *s += paused;
+            }
+        } else {
+            self.current = 0;
+            self.step_start = None;
+            self.last_index = None;
+            self.onsets_ms.clear();
+            self.frame_times_ms.clear();
+            self.dropped = 0;
+        }
+    }
+
+    /// What the log keeps of this presentation, answered at `now`.
+    pub fn timing(&self, now: f64, pauses: u32, preload_ms: f64) -> Timing {
+        Timing {
+            rt_ms: self.response_time_ms(now),
+            onsets_ms: self.onsets_ms.clone(),
+            frame_times_ms: self.frame_times_ms.clone(),
+            dropped_frames: self.dropped,
+            pauses,
+            preload_ms,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::tests::small;
+
+    /// Tick at a steady interval until the answer is due; return the views, the presentation
+    /// and the time of the tick that reached the response step.
+    fn run(d: &Design, frames: u32, fps: f64, dt: f64) -> (Vec<View>, Presentation, f64) {
+        let mut p = Presentation::new(d, frames, fps);
+        let mut views = Vec::new();
+        let mut t = 10.0;
+        loop {
+            views.push(p.tick(t));
+            if p.responding() {
+                return (views, p, t);
+            }
+            t += dt;
+            assert!(t < 100.0, "never reached the response step");
+        }
+    }
+
+    fn frames_of(views: &[View], pair: u8) -> Vec<u32> {
+        views
+            .iter()
+            .filter_map(|v| match v {
+                View::Play {
+                    pairs: Pairs::One(p),
+                    frame,
+                } if *p == pair => Some(*frame),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn at_twice_the_video_rate_every_frame_shows_twice_and_none_drops() {
+        // 60 Hz repaints, 30 fps video: frame k is due at k/30 s, repaints every 1/60 s.
+        // Use a binary-exact interval near 1/60 s (2^-6) so floor() sees no rounding.
+        let d = small();
+        let dt = 1.0 / 64.0;
+        let (views, p, _) = run(&d, 6, 32.0, dt);
+        for pair in [1, 2] {
+            let f = frames_of(&views, pair);
+            assert_eq!(f, vec![0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5]);
+        }
+        let t = p.timing(0.0, 0, 0.0);
+        assert_eq!(t.dropped_frames, 0);
+        assert_eq!(t.frame_times_ms.len(), 12);
+        assert_eq!(t.onsets_ms.len(), 2);
+        // Fixation 0.5 s, pair 6/32 s, gap 1 s: pair 2 starts >= 1.6875 s after pair 1 start.
+        assert!(t.onsets_ms[1] - t.onsets_ms[0] >= 1000.0 * (6.0 / 32.0 + 1.0));
+    }
+
+    #[test]
+    fn late_repaints_skip_frames_and_count_them_including_at_the_end() {
+        let d = small();
+        // Repaint every 3 video frames: 10 frames show 0, 3, 6, 9; 6 dropped per pair.
+        let (views, p, _) = run(&d, 10, 32.0, 3.0 / 32.0);
+        assert_eq!(frames_of(&views, 1), vec![0, 3, 6, 9]);
+        assert_eq!(p.timing(0.0, 0, 0.0).dropped_frames, 2 * 6);
+        // 4 frames every 3: shows 0 and 3, frames 1 and 2 dropped in each pair.
+        let (views, p, _) = run(&d, 4, 32.0, 3.0 / 32.0);
+        assert_eq!(frames_of(&views, 2), vec![0, 3]);
+        assert_eq!(p.timing(0.0, 0, 0.0).dropped_frames, 4);
+    }
+
+    #[test]
+    fn loops_wrap_the_frame_index_and_grid_shows_both_pairs_once() {
+        let mut v: serde_json::Value = serde_json::from_str(crate::design::tests::SMALL).unwrap();
+        v["layout"] = "grid".into();
+        v["playback"] = serde_json::json!({"loops": 2});
+        let d = Design::parse(std::path::Path::new("d.json"), &v.to_string()).unwrap();
+        let (views, p, _) = run(&d, 3, 32.0, 1.0 / 32.0);
+        let both: Vec<u32> = views
+            .iter()
+            .filter_map(|v| match v {
+                View::Play {
+                    pairs: Pairs::Both,
+                    frame,
+                } => Some(*frame),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(both, vec![0, 1, 2, 0, 1, 2]);
+        assert_eq!(p.timing(0.0, 0, 0.0).onsets_ms.len(), 1);
+        assert!(!views.contains(&View::Gap));
+    }
+
+    #[test]
+    fn pause_restarts_a_presentation_but_not_the_answer_clock() {
+        let d = small();
+        let mut p = Presentation::new(&d, 4, 32.0);
+        p.tick(0.0);
+        p.tick(0.6); // into pair 1
+        assert!(p.playing());
+        p.after_pause(5.0);
+        assert_eq!(p.tick(7.0), View::Fixation);
+        assert!(p.timing(7.0, 1, 0.0).onsets_ms.is_empty());
+        let (_, mut done, t_respond) = run(&d, 4, 32.0, 1.0 / 32.0);
+        done.after_pause(2.0);
+        assert_eq!(done.response_time_ms(t_respond + 3.0), 1000.0);
+    }
+
+    #[test]
+    fn next_change_points_at_the_next_frame_boundary() {
+        let d = small();
+        let mut p = Presentation::new(&d, 4, 32.0);
+        p.tick(0.0);
+        assert_eq!(p.next_change(0.25), Some(0.25));
+        p.tick(0.5); // pair 1 starts at 0.5, frame 0
+        assert_eq!(p.next_change(0.5), Some(1.0 / 32.0));
+    }
+}

@@ -1,0 +1,393 @@
+//! The session state machine, shared by the app and the simulator (no GUI types):
+//!
+//! ```text
+//! Instructions -> Practice(0..p) -> PracticeDone -> Trial(0..n) -> Finished
+//!                                       every `break_every` trials: Break -> Trial
+//! ```
+//!
+//! Screens (instructions, end of practice, breaks) are left with [`Session::advance`]; a trial
+//! is left with [`Session::answer`], which writes the trial's log line to disk before the next
+//! stage exists. [`Session::open`] on an existing log continues at the next unanswered trial of
+//! the same list, after checking that the log belongs to this subject and this exact design and
+//! that every logged trial is the planned one.
+
+use crate::design::Design;
+use crate::log::{Display, Header, LOG_FORMAT, LogLine, Resume, SessionLog, TrialRecord};
+use crate::log_writer::{Durability, LogWriter, whole_lines_len};
+use crate::trials::{self, Trial, TrialPlan};
+use anyhow::{Result, bail};
+use std::path::{Path, PathBuf};
+
+/// Where a session is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    Instructions,
+    /// Presenting practice trial `i` (index into [`TrialPlan::practice`]).
+    Practice(usize),
+    /// Practice is over; the main trials come next.
+    PracticeDone,
+    /// Presenting main trial `i` (index into [`TrialPlan::main`]).
+    Trial(usize),
+    Break,
+    Finished,
+}
+
+/// What was measured while a trial was presented (all times in milliseconds; stamps relative
+/// to the start of this run of the session).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Timing {
+    pub rt_ms: f64,
+    pub onsets_ms: Vec<f64>,
+    pub frame_times_ms: Vec<f64>,
+    pub dropped_frames: u32,
+    pub pauses: u32,
+    pub preload_ms: f64,
+}
+
+/// How a session is started: what goes into the header (or the resume line).
+#[derive(Clone, Debug)]
+pub struct StartInfo {
+    /// `gui` or `simulated`.
+    pub mode: String,
+    pub display: Option<Display>,
+    pub observer: Option<serde_json::Value>,
+    /// Seconds since the Unix epoch (simulations use 0 so their logs are reproducible).
+    pub started_unix: f64,
+}
+
+/// The outcome of one answer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Answered {
+    pub correct: bool,
+    pub practice: bool,
+}
+
+/// One subject's session over one design.
+#[derive(Debug)]
+pub struct Session {
+    design: Design,
+    subject: String,
+    plan: TrialPlan,
+    log_path: PathBuf,
+    /// The log found at `open`, if it had a header.
+    existing: Option<SessionLog>,
+    writer: Option<LogWriter>,
+    durability: Durability,
+    practice_done: usize,
+    main_done: usize,
+    stage: Stage,
+    warnings: Vec<String>,
+}
+
+/// The text a log names its program with.
+pub fn app_version() -> String {
+    format!("blurlab {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// Subjects name files: letters, digits, `-` and `_` only.
+pub fn check_subject(subject: &str) -> Result<()> {
+    if subject.is_empty()
+        || !subject
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+    {
+        bail!("subject {subject:?}: expected letters, digits, `-` or `_` (it names the log file)");
+    }
+    Ok(())
+}
+
+impl Session {
+    /// Prepare a session, reading `log_path` if it exists (nothing is written yet).
+    pub fn open(
+        design: &Design,
+        subject: &str,
+        log_path: &Path,
+        durability: Durability,
+    ) -> Result<Self> {
+        check_subject(subject)?;
+        let plan = trials::plan(design, subject);
+        let mut s = Session {
+            design: design.clone(),
+            subject: subject.to_string(),
+            plan,
+            log_path: log_path.to_path_buf(),
+            existing: None,
+            writer: None,
+            durability,
+            practice_done: 0,
+            main_done: 0,
+            stage: Stage::Instructions,
+            warnings: Vec::new(),
+        };
+        if log_path.exists() {
+            s.read_existing()?;
+        }
+        Ok(s)
+    }
+
+    fn read_existing(&mut self) -> Result<()> {
+        let path = &self.log_path;
+        let bytes = std::fs::read(path)
+            .map_err(|e| anyhow::anyhow!("cannot read session log {}: {e}", path.display()))?;
+        if whole_lines_len(&bytes) == 0 {
+            // Not even the header is whole (it is written atomically, so only an outside
+            // truncation does this): nothing was answered, start afresh.
+            self.warnings.push(format!(
+                "{}: holds no complete line; starting the session afresh",
+                path.display()
+            ));
+            return Ok(());
+        }
+        let log = SessionLog::read(path)?;
+        let h = &log.header;
+        if h.subject != self.subject {
+            bail!(
+                "{}: field `subject` is {:?}, not {:?}; each subject has their own log file",
+                path.display(),
+                h.subject,
+                self.subject
+            );
+        }
+        if h.design_hash != self.design.hash {
+            bail!(
+                "{}: was written with design {:?} (hash {}), but {} now has hash {}: a changed \
+                 design changes the trial list, so this session cannot be continued with it. \
+                 Restore the design file, or write the new design's sessions to another folder",
+                path.display(),
+                h.design,
+                h.design_hash,
+                self.design.path.display(),
+                self.design.hash
+            );
+        }
+        self.check_trials(&log)?;
+        self.warnings.extend(log.warnings.iter().cloned());
+        self.existing = Some(log);
+        Ok(())
+    }
+
+    /// Every logged trial must be the planned one, in order: practice first, then main.
+    fn check_trials(&mut self, log: &SessionLog) -> Result<()> {
+        for r in &log.trials {
+            let expected = if r.practice {
+                (self.main_done == 0)
+                    .then(|| self.plan.practice.get(self.practice_done))
+                    .flatten()
+            } else {
+                self.plan.main.get(self.main_done)
+            };
+            match expected {
+                Some(t) if t.matches(r) => {
+                    if r.practice {
+                        self.practice_done += 1
+                    } else {
+                        self.main_done += 1
+                    }
+                }
+                _ => bail!(
+                    "{}: logged {} trial {} ({}) is not the trial this design and seed put there; \
+                     the log does not belong to this trial list",
+                    log.path.display(),
+                    if r.practice { "practice" } else { "main" },
+                    r.index,
+                    r.test_stimulus
+                ),
+            }
+        }
+        Ok(())
+    }
+
+    /// Write the header (new log) or a resume line (continued log); the session is then at
+    /// its instructions screen.
+    pub fn start(&mut self, info: StartInfo) -> Result<()> {
+        if self.writer.is_some() {
+            bail!("session {} already started", self.log_path.display());
+        }
+        if self.existing.is_some() {
+            let (mut w, warning) = LogWriter::reopen(&self.log_path, self.durability)?;
+            if let Some(warning) = warning {
+                // The writer's account of the torn line (what it removed) replaces the reader's.
+                self.warnings
+                    .retain(|x| !x.contains("incomplete last line"));
+                self.warnings.push(warning);
+            }
+            w.append(&LogLine::Resume(Resume {
+                started_unix: info.started_unix,
+                app_version: app_version(),
+                practice_done: self.practice_done as u32,
+                trials_done: self.main_done as u32,
+                display: info.display,
+                warnings: self.warnings.clone(),
+            }))?;
+            self.writer = Some(w);
+        } else {
+            let header = Header {
+                format: LOG_FORMAT.into(),
+                subject: self.subject.clone(),
+                session: 1,
+                design: self.design.name().to_string(),
+                design_hash: self.design.hash.clone(),
+                seed: self.plan.seed,
+                app_version: app_version(),
+                mode: info.mode,
+                started_unix: info.started_unix,
+                trials_planned: self.plan.main.len() as u32,
+                display: info.display,
+                observer: info.observer,
+            };
+            self.writer = Some(LogWriter::create(&self.log_path, &header, self.durability)?);
+        }
+        self.stage = Stage::Instructions;
+        Ok(())
+    }
+
+    pub fn stage(&self) -> Stage {
+        self.stage
+    }
+
+    /// The trial being presented, if the stage is a trial.
+    pub fn trial(&self) -> Option<&Trial> {
+        match self.stage {
+            Stage::Practice(i) => self.plan.practice.get(i),
+            Stage::Trial(i) => self.plan.main.get(i),
+            _ => None,
+        }
+    }
+
+    /// The trial after the current one (what to load next), if any.
+    pub fn next_trial(&self) -> Option<&Trial> {
+        match self.stage {
+            Stage::Practice(i) => self
+                .plan
+                .practice
+                .get(i + 1)
+                .or_else(|| self.plan.main.get(self.main_done)),
+            Stage::Trial(i) => self.plan.main.get(i + 1),
+            _ => None,
+        }
+    }
+
+    /// Leave a screen stage (instructions, end of practice, break) for the next trial.
+    pub fn advance(&mut self) {
+        if matches!(
+            self.stage,
+            Stage::Instructions | Stage::PracticeDone | Stage::Break
+        ) {
+            self.stage = self.next_trial_stage();
+        }
+    }
+
+    fn next_trial_stage(&self) -> Stage {
+        if self.main_done == 0 && self.practice_done < self.plan.practice.len() {
+            Stage::Practice(self.practice_done)
+        } else if self.main_done < self.plan.main.len() {
+            Stage::Trial(self.main_done)
+        } else {
+            Stage::Finished
+        }
+    }
+
+    /// Record the subject's answer (pair 1 or 2) to the current trial. The log line is on disk
+    /// when this returns; then the session moves on.
+    pub fn answer(&mut self, response: u8, timing: Timing) -> Result<Answered> {
+        let Some(trial) = self.trial() else {
+            bail!("no trial is being presented (stage {:?})", self.stage);
+        };
+        if response != 1 && response != 2 {
+            bail!("response {response}: expected pair 1 or 2");
+        }
+        let record = record(trial, response, timing);
+        let answered = Answered {
+            correct: record.correct,
+            practice: record.practice,
+        };
+        let Some(writer) = self.writer.as_mut() else {
+            bail!("session not started: call start() before answering");
+        };
+        writer.append(&LogLine::Trial(record))?;
+        self.stage = if answered.practice {
+            self.practice_done += 1;
+            if self.practice_done < self.plan.practice.len() {
+                Stage::Practice(self.practice_done)
+            } else if self.plan.main.is_empty() {
+                Stage::Finished
+            } else {
+                Stage::PracticeDone
+            }
+        } else {
+            self.main_done += 1;
+            let every = self.design.file.break_every as usize;
+            if self.main_done == self.plan.main.len() {
+                Stage::Finished
+            } else if every > 0 && self.main_done.is_multiple_of(every) {
+                Stage::Break
+            } else {
+                Stage::Trial(self.main_done)
+            }
+        };
+        Ok(answered)
+    }
+
+    /// Main trials answered and planned.
+    pub fn progress(&self) -> (usize, usize) {
+        (self.main_done, self.plan.main.len())
+    }
+
+    pub fn practice_progress(&self) -> (usize, usize) {
+        (self.practice_done, self.plan.practice.len())
+    }
+
+    /// Every main trial is answered.
+    pub fn is_complete(&self) -> bool {
+        self.main_done == self.plan.main.len()
+    }
+
+    /// The session continues an earlier log.
+    pub fn resumed(&self) -> bool {
+        self.existing.is_some()
+    }
+
+    /// What was tolerated when the log was reopened.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    pub fn plan(&self) -> &TrialPlan {
+        &self.plan
+    }
+
+    pub fn design(&self) -> &Design {
+        &self.design
+    }
+
+    pub fn subject(&self) -> &str {
+        &self.subject
+    }
+
+    pub fn log_path(&self) -> &Path {
+        &self.log_path
+    }
+}
+
+fn record(t: &Trial, response: u8, timing: Timing) -> TrialRecord {
+    TrialRecord {
+        index: t.index,
+        practice: t.practice,
+        scene: t.condition.scene.clone(),
+        point_set: t.condition.point_set.clone(),
+        time_filter: t.condition.time_filter.clone(),
+        level: t.level,
+        test_stimulus: t.test_stimulus.clone(),
+        reference_stimulus: t.reference_stimulus.clone(),
+        diff_pair: t.diff_pair,
+        test_side: t.test_side,
+        response,
+        correct: response == t.diff_pair,
+        rt_ms: timing.rt_ms,
+        onsets_ms: timing.onsets_ms,
+        frame_times_ms: timing.frame_times_ms,
+        dropped_frames: timing.dropped_frames,
+        pauses: timing.pauses,
+        preload_ms: timing.preload_ms,
+    }
+}

@@ -1,0 +1,73 @@
+//! Simulated subjects: the real session machine and log writer, answered by an [`Observer`].
+//! Logs are a pure function of the design, the observer and the subject names (the header's
+//! start time is 0), so a simulation rerun gives byte-identical files.
+
+use crate::design::Design;
+use crate::log_writer::Durability;
+use crate::observer::Observer;
+use crate::session::{Session, Stage, StartInfo, Timing};
+use anyhow::{Context, Result};
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// The name of simulated subject `i` (0-based): `s01`, `s02`, ...
+pub fn subject_name(i: usize) -> String {
+    format!("s{:02}", i + 1)
+}
+
+/// Simulate `subjects` subjects (`s01`...), writing `out_dir/<subject>.jsonl` for each
+/// (replacing earlier simulations of the same names). Returns the log paths in subject order.
+pub fn simulate(
+    design: &Design,
+    observer: &Observer,
+    subjects: usize,
+    out_dir: &Path,
+) -> Result<Vec<PathBuf>> {
+    observer.check_covers(design)?;
+    std::fs::create_dir_all(out_dir)
+        .with_context(|| format!("cannot create folder {}", out_dir.display()))?;
+    (0..subjects)
+        .into_par_iter()
+        .map(|i| {
+            let subject = subject_name(i);
+            let path = out_dir.join(format!("{subject}.jsonl"));
+            simulate_subject(design, observer, &subject, &path)?;
+            Ok(path)
+        })
+        .collect()
+}
+
+/// One simulated subject's whole session into a fresh log at `path`.
+pub fn simulate_subject(
+    design: &Design,
+    observer: &Observer,
+    subject: &str,
+    path: &Path,
+) -> Result<()> {
+    if path.exists() {
+        std::fs::remove_file(path).with_context(|| format!("cannot replace {}", path.display()))?;
+    }
+    let mut session = Session::open(design, subject, path, Durability::Flush)?;
+    session.start(StartInfo {
+        mode: "simulated".into(),
+        display: None,
+        observer: Some(serde_json::to_value(&observer.file)?),
+        started_unix: 0.0,
+    })?;
+    answer_all(&mut session, observer)
+}
+
+/// Drive a started session to its end with the observer's answers.
+pub fn answer_all(session: &mut Session, observer: &Observer) -> Result<()> {
+    loop {
+        match session.stage() {
+            Stage::Instructions | Stage::PracticeDone | Stage::Break => session.advance(),
+            Stage::Practice(_) | Stage::Trial(_) => {
+                let trial = session.trial().expect("a trial stage has a trial");
+                let response = observer.respond(trial, session.subject())?;
+                session.answer(response, Timing::default())?;
+            }
+            Stage::Finished => return Ok(()),
+        }
+    }
+}

@@ -1,0 +1,87 @@
+//! Simulated subjects through the real session machine and log writer: one complete log per
+//! subject, readable by the reader the analysis uses, reproducible byte for byte, with answers
+//! that follow the observer's psychometric function.
+
+use experiment::log::SessionLog;
+use experiment::simulate::simulate;
+use experiment::trials::plan;
+use experiment::{Design, Observer};
+use std::path::Path;
+
+fn repo(p: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(p)
+}
+
+#[test]
+fn twelve_thesis_subjects_follow_the_observer_and_rerun_identically() {
+    let design = Design::load(&repo("scenes/designs/thesis.json")).unwrap();
+    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let paths = simulate(&design, &observer, 12, dir.path()).unwrap();
+    assert_eq!(paths.len(), 12);
+    let first: Vec<Vec<u8>> = paths.iter().map(|p| std::fs::read(p).unwrap()).collect();
+
+    let mut correct_at = std::collections::BTreeMap::<(String, u32), (u32, u32, f64)>::new();
+    for (i, p) in paths.iter().enumerate() {
+        let log = SessionLog::read(p).unwrap();
+        let subject = format!("s{:02}", i + 1);
+        assert_eq!(log.header.subject, subject);
+        assert_eq!(log.header.mode, "simulated");
+        assert_eq!(log.header.design_hash, design.hash);
+        assert_eq!(log.header.trials_planned, 192);
+        assert_eq!(log.header.observer.as_ref().unwrap()["name"], "thesis");
+        let plan = plan(&design, &subject);
+        assert_eq!(log.header.seed, plan.seed);
+        let main: Vec<_> = log.main_trials().collect();
+        assert_eq!(main.len(), 192);
+        assert_eq!(log.trials.len(), 192 + 4);
+        for (t, r) in plan.main.iter().zip(&main) {
+            assert!(t.matches(r));
+            assert_eq!(r.correct, r.response == r.diff_pair);
+            let e = correct_at
+                .entry((t.condition.scene.clone(), t.level))
+                .or_default();
+            let th = observer.subject_threshold(&t.condition, &subject).unwrap();
+            e.0 += r.correct as u32;
+            e.1 += 1;
+            e.2 += observer.p_correct(th, t.level as f64);
+        }
+    }
+    // Per scene x level: 12 subjects x 3 point sets x 4 repeats = 144 answers; the observed
+    // proportion's standard error is at most sqrt(0.25 / 144) = 0.042. Allow 4 sigma.
+    for ((scene, level), (c, n, p_sum)) in &correct_at {
+        assert_eq!(*n, 144);
+        let observed = *c as f64 / *n as f64;
+        let expected = p_sum / *n as f64;
+        assert!(
+            (observed - expected).abs() < 4.0 * 0.042,
+            "{scene} at {level} spp: observed {observed}, expected {expected}"
+        );
+    }
+    // The pooled proportions fall from near 1 to near 0.5 across the levels, as in the thesis.
+    let plane_1 = correct_at[&("plane".to_string(), 1)];
+    let plane_512 = correct_at[&("plane".to_string(), 512)];
+    assert!(plane_1.0 as f64 / 144.0 > 0.9);
+    assert!((plane_512.0 as f64 / 144.0) < 0.7);
+
+    let again = simulate(&design, &observer, 12, dir.path()).unwrap();
+    for (p, bytes) in again.iter().zip(&first) {
+        assert_eq!(&std::fs::read(p).unwrap(), bytes, "{} differs", p.display());
+    }
+}
+
+#[test]
+fn an_observer_that_does_not_cover_the_design_is_refused_before_writing() {
+    let design = Design::load(&repo("scenes/designs/demo.json")).unwrap();
+    let observer = Observer::parse(
+        Path::new("o.json"),
+        r#"{"format": "blurlab-observer/1", "name": "o", "slope": 1,
+            "thresholds": [{"scene": "plane", "spp": 10}]}"#,
+    )
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sessions");
+    let e = simulate(&design, &observer, 2, &out).unwrap_err();
+    assert!(e.to_string().contains("spheres"), "{e}");
+    assert!(!out.exists());
+}
