@@ -5,6 +5,7 @@ pub mod assets;
 pub mod export;
 pub mod job;
 pub mod report;
+pub mod scene;
 
 use anyhow::Result;
 use clap::Subcommand;
@@ -20,6 +21,8 @@ pub enum RenderCommand {
     Export(export::ExportArgs),
     /// Regenerate the procedural models and environment maps under scenes/.
     Assets(assets::AssetsArgs),
+    /// Render a scene's frames (scenes/*.json) into a folder of PNG (and EXR) files.
+    Scene(scene::SceneArgs),
 }
 
 /// Run one renderer subcommand.
@@ -29,5 +32,6 @@ pub fn run(cmd: RenderCommand) -> Result<()> {
         RenderCommand::Report(a) => report::run(a),
         RenderCommand::Export(a) => export::run(a),
         RenderCommand::Assets(a) => assets::run(a),
+        RenderCommand::Scene(a) => scene::run(a),
     }
 }
