@@ -39,6 +39,11 @@ impl MotionLayer {
         self.velocity == Vec3::ZERO && self.angular_velocity == Vec3::ZERO
     }
 
+    /// The linear part (rotation times scale) without the spin.
+    pub fn linear_at_rest(&self) -> glam::Mat3A {
+        glam::Mat3A::from_quat(self.rotation) * glam::Mat3A::from_diagonal(self.scale)
+    }
+
     /// Parent-from-child transform at time `t`.
     pub fn pose(&self, t: f32) -> Affine3A {
         let spin = if self.angular_velocity == Vec3::ZERO {
@@ -64,6 +69,43 @@ pub struct Motion {
 impl Motion {
     pub fn is_static(&self) -> bool {
         self.layers.iter().all(MotionLayer::is_static)
+    }
+
+    /// Whether no layer spins: the pose then only translates, linearly in time
+    /// (see [`Motion::linear_velocity`]).
+    pub fn is_translation_only(&self) -> bool {
+        self.layers.iter().all(|l| l.angular_velocity == Vec3::ZERO)
+    }
+
+    /// For a motion without spin, the world velocity of the object's origin: the chain's
+    /// translation is `p0 + w t` with `w = v0 + L0 v1 + L0 L1 v2 + ...` (`L_k` the constant
+    /// linear part of layer k), because each layer maps its child's translation linearly.
+    /// Meaningless when a layer spins.
+    pub fn linear_velocity(&self) -> Vec3A {
+        let mut w = Vec3A::ZERO;
+        let mut outer = glam::Mat3A::IDENTITY;
+        for l in &self.layers {
+            w += outer * Vec3A::from(l.velocity);
+            outer *= l.linear_at_rest();
+        }
+        w
+    }
+
+    /// An upper bound on the speed of the object-space point `p` over `[t0, t1]`, for swept
+    /// bounds of spinning objects. Innermost layer first: with `x_k = l_k + v_k t + R_k(t) S_k
+    /// x_{k+1}` and `R_k` a rotation at angular speed `|w_k|`,
+    /// `|x_k'| <= |v_k| + |w_k| s_k |x_{k+1}| + s_k |x_{k+1}'|` (`s_k` the largest scale), and
+    /// `|x_k| <= max(|l_k + v_k t0|, |l_k + v_k t1|) + s_k |x_{k+1}|` (a norm of a linear
+    /// function of t is largest at an end of the interval).
+    pub fn speed_bound(&self, p: Vec3A, (t0, t1): (f32, f32)) -> f32 {
+        let (mut reach, mut speed) = (p.length(), 0.0f32);
+        for l in self.layers.iter().rev() {
+            let s = l.scale.abs().max_element();
+            speed = l.velocity.length() + l.angular_velocity.length() * s * reach + s * speed;
+            let at = |t: f32| (l.location + l.velocity * t).length();
+            reach = at(t0).max(at(t1)) + s * reach;
+        }
+        speed
     }
 
     /// World-from-object transform at time `t`.

@@ -1,40 +1,101 @@
-//! Triangle meshes in object space.
+//! Triangle meshes in object space, with an obvhs BVH built once per mesh.
 //!
-//! Placeholder: brute force over every triangle. To be replaced by an obvhs BVH built once per
-//! mesh (motion moves rays, not triangles), with conservative primitive bounds.
+//! Motion moves rays, not triangles (see [`crate::accel`]), so the BVH never changes after
+//! [`TriangleMesh::new`]. Primitive boxes are padded ([`Bounds::padded`]) because obvhs's box
+//! test is not conservative, and triangles are stored in the BVH's primitive order so the
+//! traversal's primitive id indexes them directly.
 
-use super::{Bounds, ObjectHit, Ray, triangle};
+use super::bounds::SLACK_PER_DIAGONAL;
+use super::triangle::WatertightRay;
+use super::{Bounds, ObjectHit, Ray, ShapeHit};
 use glam::Vec3A;
+use obvhs::bvh2::{Bvh2, builder::build_bvh2};
+use obvhs::{BvhBuildParams, ray::RayHit};
+use std::time::Duration;
 
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct TriangleMesh {
+    /// Vertex positions. Read-only after construction: the BVH was built from them.
     pub positions: Vec<Vec3A>,
     /// Per-vertex normals, same length as `positions`, when the model has them.
     pub normals: Option<Vec<Vec3A>>,
+    /// The triangles, in the BVH's order (not the order given to [`TriangleMesh::new`]), without
+    /// the ones that were dropped as invalid.
     pub indices: Vec<[u32; 3]>,
     bounds: Bounds,
+    /// Corner positions of `indices[i]`, so the inner loop reads one cache line per triangle.
+    corners: Vec<[Vec3A; 3]>,
+    bvh: Bvh2,
+    dropped: usize,
+}
+
+impl std::fmt::Debug for TriangleMesh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TriangleMesh")
+            .field("vertices", &self.positions.len())
+            .field("triangles", &self.indices.len())
+            .field("normals", &self.normals.is_some())
+            .field("bounds", &self.bounds)
+            .field("bvh_nodes", &self.bvh.nodes.len())
+            .finish()
+    }
 }
 
 impl TriangleMesh {
-    /// A mesh from vertex positions, optional per-vertex normals and triangles.
-    /// Indices must be in range and `normals` as long as `positions` (checked by the caller
-    /// that reads user files; here a debug assertion).
+    /// A mesh from vertex positions, optional per-vertex normals and triangles, with its BVH.
+    ///
+    /// Never panics: triangles with an index out of range or a non-finite corner are dropped
+    /// (counted by [`TriangleMesh::dropped_triangles`]; file loaders report them as errors
+    /// before getting here), and `normals` of the wrong length are ignored. Zero-area
+    /// triangles are kept: the intersection test never hits them.
     pub fn new(positions: Vec<Vec3A>, normals: Option<Vec<Vec3A>>, indices: Vec<[u32; 3]>) -> Self {
-        debug_assert!(
-            indices
-                .iter()
-                .all(|t| t.iter().all(|&i| (i as usize) < positions.len()))
-        );
         debug_assert!(normals.as_ref().is_none_or(|n| n.len() == positions.len()));
-        let bounds = positions.iter().fold(Bounds::EMPTY, |b, &p| b.include(p));
+        let normals = normals.filter(|n| n.len() == positions.len());
+        let corner = |i: u32| positions.get(i as usize).copied().filter(|p| p.is_finite());
+        let valid: Vec<([u32; 3], [Vec3A; 3])> = indices
+            .iter()
+            .filter_map(|&[a, b, c]| Some(([a, b, c], [corner(a)?, corner(b)?, corner(c)?])))
+            .collect();
+        let dropped = indices.len() - valid.len();
+        let bounds = valid
+            .iter()
+            .flat_map(|(_, c)| c.iter())
+            .fold(Bounds::EMPTY, |b, &p| b.include(p));
+        let slack = SLACK_PER_DIAGONAL * bounds.diagonal();
+        let boxes: Vec<_> = valid
+            .iter()
+            .map(|(_, c)| {
+                let b = Bounds::EMPTY.include(c[0]).include(c[1]).include(c[2]);
+                b.padded(slack).to_aabb()
+            })
+            .collect();
+        let bvh = if boxes.is_empty() {
+            Bvh2::default()
+        } else {
+            build_bvh2(
+                &boxes,
+                BvhBuildParams::medium_build(),
+                &mut Duration::default(),
+            )
+        };
+        // Reorder once so the traversal's primitive id is our triangle index.
+        let (indices, corners) = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| valid[i as usize])
+            .unzip();
         Self {
             positions,
             normals,
             indices,
             bounds,
+            corners,
+            bvh,
+            dropped,
         }
     }
 
+    /// Bounds of the triangles that were kept (tight, not padded).
     pub fn bounds(&self) -> Bounds {
         self.bounds
     }
@@ -43,43 +104,70 @@ impl TriangleMesh {
         self.indices.len()
     }
 
-    fn corners(&self, i: usize) -> (Vec3A, Vec3A, Vec3A) {
-        let [a, b, c] = self.indices[i];
-        (
-            self.positions[a as usize],
-            self.positions[b as usize],
-            self.positions[c as usize],
-        )
+    /// How many triangles [`TriangleMesh::new`] dropped (index out of range, corner not finite).
+    pub fn dropped_triangles(&self) -> usize {
+        self.dropped
     }
 
+    /// The BVH (object space), for benchmarks that traverse it bare.
+    pub fn bvh(&self) -> &Bvh2 {
+        &self.bvh
+    }
+
+    /// Corner positions of triangle `i` (in [`TriangleMesh::indices`] order).
+    pub fn corners(&self, i: usize) -> [Vec3A; 3] {
+        self.corners[i]
+    }
+
+    /// Closest hit with `ray.t_min < t < ray.t_max`, in object space.
     pub fn intersect(&self, ray: &Ray) -> Option<ObjectHit> {
-        let mut r = *ray;
-        let mut best = None;
-        for i in 0..self.indices.len() {
-            let (a, b, c) = self.corners(i);
-            if let Some(t) = triangle::intersect(&r, a, b, c) {
-                r.t_max = t;
-                best = Some((i, t));
-            }
-        }
-        best.map(|(i, t)| self.hit(i, t, ray))
+        self.closest(ray).map(|h| self.surface(ray, h))
     }
 
+    /// Whether any triangle is hit with `ray.t_min < t < ray.t_max` (stops at the first).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        (0..self.indices.len()).any(|i| {
-            let (a, b, c) = self.corners(i);
-            triangle::intersect(ray, a, b, c).is_some()
+        let w = WatertightRay::new(ray);
+        let t_min = ray.t_min;
+        !self.bvh.ray_traverse_miss(ray.traversal_ray(), |r, id| {
+            let [a, b, c] = self.corners[id];
+            w.intersect_t(a, b, c, t_min, r.tmax)
+                .unwrap_or(f32::INFINITY)
         })
     }
 
-    fn hit(&self, i: usize, t: f32, ray: &Ray) -> ObjectHit {
-        let (a, b, c) = self.corners(i);
+    /// The closest hit's parameter and triangle, without normals.
+    pub fn closest(&self, ray: &Ray) -> Option<ShapeHit> {
+        let w = WatertightRay::new(ray);
+        let t_min = ray.t_min;
+        let mut hit = RayHit::none();
+        let found = self
+            .bvh
+            .ray_traverse(ray.traversal_ray(), &mut hit, |r, id| {
+                let [a, b, c] = self.corners[id];
+                w.intersect_t(a, b, c, t_min, r.tmax)
+                    .unwrap_or(f32::INFINITY)
+            });
+        found.then_some(ShapeHit {
+            t: hit.t,
+            primitive: hit.primitive_id,
+        })
+    }
+
+    /// Normals at a hit found by [`TriangleMesh::closest`] for the same ray.
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ObjectHit {
+        let i = hit.primitive as usize;
+        let [a, b, c] = self.corners[i];
         let ng = (b - a).cross(c - a);
+        // The same test again, for this one triangle, gives the same t and its weights.
+        let weights = WatertightRay::new(ray)
+            .intersect(a, b, c, f32::NEG_INFINITY, f32::INFINITY)
+            .map_or([1.0 / 3.0; 3], |h| h.barycentric);
         let shading_normal = match &self.normals {
             Some(n) => {
                 let [ia, ib, ic] = self.indices[i];
-                let (w, u, v) = triangle::barycentric(ray.at(t), a, b, c);
-                let s = n[ia as usize] * w + n[ib as usize] * u + n[ic as usize] * v;
+                let s = n[ia as usize] * weights[0]
+                    + n[ib as usize] * weights[1]
+                    + n[ic as usize] * weights[2];
                 if s.length_squared() > 0.0 && s.is_finite() {
                     s
                 } else {
@@ -89,9 +177,58 @@ impl TriangleMesh {
             None => ng,
         };
         ObjectHit {
-            t,
+            t: hit.t,
             geometric_normal: ng,
             shading_normal,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quad() -> TriangleMesh {
+        let p = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let n = vec![Vec3A::Z; 4];
+        TriangleMesh::new(
+            p.map(Vec3A::from).to_vec(),
+            Some(n),
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+    }
+
+    #[test]
+    fn finds_the_closest_hit_and_its_normals() {
+        let m = quad();
+        let r = Ray::new(Vec3A::new(0.25, 0.75, 3.0), Vec3A::new(0.0, 0.0, -2.0), 0.0);
+        let h = m.intersect(&r).expect("hit");
+        assert_eq!(h.t, 1.5);
+        assert_eq!(h.geometric_normal.normalize(), Vec3A::Z);
+        assert_eq!(h.shading_normal, Vec3A::Z);
+        assert!(m.occluded(&r));
+        let mut short = r;
+        short.t_max = 1.5;
+        assert!(m.intersect(&short).is_none() && !m.occluded(&short));
+    }
+
+    #[test]
+    fn drops_invalid_triangles_and_survives_empty_meshes() {
+        let p = vec![Vec3A::ZERO, Vec3A::X, Vec3A::Y, Vec3A::splat(f32::NAN)];
+        let m = TriangleMesh::new(p, None, vec![[0, 1, 2], [0, 1, 3], [0, 1, 9]]);
+        assert_eq!((m.triangle_count(), m.dropped_triangles()), (1, 2));
+        assert!(m.bounds().is_finite());
+        let empty = TriangleMesh::new(vec![], None, vec![]);
+        let r = Ray::new(Vec3A::Z, -Vec3A::Z, 0.0);
+        assert!(empty.intersect(&r).is_none() && !empty.occluded(&r));
+        assert!(
+            m.intersect(&Ray::new(Vec3A::new(0.2, 0.2, 1.0), -Vec3A::Z, 0.0))
+                .is_some()
+        );
     }
 }

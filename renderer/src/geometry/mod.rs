@@ -3,12 +3,14 @@
 //! A shape knows nothing of motion or of the scene: [`crate::accel::World`] moves each ray into
 //! an instance's object space at the ray's time and asks the shape there.
 
+pub mod bounds;
 pub mod mesh;
 pub mod plane;
 pub mod ray;
 pub mod sphere;
 pub mod triangle;
 
+pub use bounds::Bounds;
 pub use mesh::TriangleMesh;
 pub use plane::Plane;
 pub use ray::Ray;
@@ -16,40 +18,6 @@ pub use sphere::Sphere;
 
 use glam::Vec3A;
 use std::sync::Arc;
-
-/// Axis-aligned bounds in object space.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Bounds {
-    pub min: Vec3A,
-    pub max: Vec3A,
-}
-
-impl Bounds {
-    /// The empty box (min > max), the identity of [`Bounds::union`].
-    pub const EMPTY: Bounds = Bounds {
-        min: Vec3A::splat(f32::INFINITY),
-        max: Vec3A::splat(f32::NEG_INFINITY),
-    };
-
-    pub fn union(self, o: Bounds) -> Bounds {
-        Bounds {
-            min: self.min.min(o.min),
-            max: self.max.max(o.max),
-        }
-    }
-
-    pub fn include(self, p: Vec3A) -> Bounds {
-        Bounds {
-            min: self.min.min(p),
-            max: self.max.max(p),
-        }
-    }
-
-    /// Whether every coordinate is finite (an unbounded shape has no finite bounds).
-    pub fn is_finite(&self) -> bool {
-        self.min.is_finite() && self.max.is_finite()
-    }
-}
 
 /// Where a ray met a shape, in the shape's object space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,6 +28,14 @@ pub struct ObjectHit {
     pub geometric_normal: Vec3A,
     /// Shading normal (interpolated vertex normals where the mesh has them), object space.
     pub shading_normal: Vec3A,
+}
+
+/// A hit before its normals are worked out: what traversal compares and keeps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeHit {
+    pub t: f32,
+    /// Triangle index for meshes ([`TriangleMesh::indices`] order), 0 for other shapes.
+    pub primitive: u32,
 }
 
 /// One of the shapes a scene can hold.
@@ -80,11 +56,30 @@ impl Shape {
         }
     }
 
+    /// The closest hit's parameter and primitive, without normals (cheaper: the world asks
+    /// this of every candidate instance and works out normals for the winner only).
+    pub fn closest(&self, ray: &Ray) -> Option<ShapeHit> {
+        match self {
+            Shape::Mesh(m) => m.closest(ray),
+            Shape::Sphere(s) => s.closest(ray),
+            Shape::Plane(p) => p.closest(ray),
+        }
+    }
+
+    /// Normals at `hit`, which [`Shape::closest`] returned for the same `ray`.
+    pub fn surface(&self, ray: &Ray, hit: ShapeHit) -> ObjectHit {
+        match self {
+            Shape::Mesh(m) => m.surface(ray, hit),
+            Shape::Sphere(s) => s.surface(ray, hit),
+            Shape::Plane(p) => p.surface(ray, hit),
+        }
+    }
+
     /// Whether anything is hit with `ray.t_min < t < ray.t_max` (may stop at the first hit).
     pub fn occluded(&self, ray: &Ray) -> bool {
         match self {
             Shape::Mesh(m) => m.occluded(ray),
-            _ => self.intersect(ray).is_some(),
+            _ => self.closest(ray).is_some(),
         }
     }
 

@@ -1,7 +1,7 @@
 //! The plane y = 0 in object space, normal +y: infinite, or the rectangle
 //! |x| <= half_extent.x, |z| <= half_extent.y.
 
-use super::{Bounds, ObjectHit, Ray};
+use super::{Bounds, ObjectHit, Ray, ShapeHit};
 use glam::{Vec2, Vec3A};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,6 +25,11 @@ impl Plane {
     }
 
     pub fn intersect(&self, ray: &Ray) -> Option<ObjectHit> {
+        self.closest(ray).map(|h| self.surface(ray, h))
+    }
+
+    /// One division: `t = -o.y / d.y` (NaN and infinities fail the range test).
+    pub fn closest(&self, ray: &Ray) -> Option<ShapeHit> {
         if ray.dir.y == 0.0 {
             return None;
         }
@@ -34,14 +39,18 @@ impl Plane {
         }
         if let Some(h) = self.half_extent {
             let p = ray.at(t);
-            if p.x.abs() > h.x || p.z.abs() > h.y {
+            if !(p.x.abs() <= h.x && p.z.abs() <= h.y) {
                 return None;
             }
         }
-        Some(ObjectHit {
-            t,
+        Some(ShapeHit { t, primitive: 0 })
+    }
+
+    pub fn surface(&self, _ray: &Ray, hit: ShapeHit) -> ObjectHit {
+        ObjectHit {
+            t: hit.t,
             geometric_normal: Vec3A::Y,
             shading_normal: Vec3A::Y,
-        })
+        }
     }
 }

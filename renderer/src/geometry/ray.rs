@@ -33,3 +33,37 @@ impl Ray {
         self.origin + self.dir * t
     }
 }
+
+impl Ray {
+    /// The ray as obvhs traverses it. The reciprocal direction is exact where it is finite and
+    /// +-f32::MAX where a component is 0 (obvhs's own `safe_inverse` replaces every component
+    /// below f32::EPSILON by 1/EPSILON, which makes its box test drop rays that are nearly
+    /// parallel to a face; with +-MAX, `0 * inv` is 0, never NaN). obvhs's box test ignores
+    /// `tmin`; the shapes apply `t_min` themselves.
+    #[inline]
+    pub fn traversal_ray(&self) -> obvhs::ray::Ray {
+        obvhs::ray::Ray {
+            origin: self.origin,
+            direction: self.dir,
+            inv_direction: self
+                .dir
+                .recip()
+                .clamp(Vec3A::splat(-f32::MAX), Vec3A::splat(f32::MAX)),
+            tmin: self.t_min,
+            tmax: self.t_max,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn traversal_ray_has_finite_signed_reciprocals() {
+        let r = Ray::new(Vec3A::ZERO, Vec3A::new(0.0, -0.0, 1e-9), 0.0).traversal_ray();
+        assert_eq!(r.inv_direction.x, f32::MAX);
+        assert_eq!(r.inv_direction.y, -f32::MAX);
+        assert_eq!(r.inv_direction.z, 1.0 / 1e-9f32);
+    }
+}

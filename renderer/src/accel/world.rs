@@ -1,0 +1,187 @@
+//! The two-level structure rays are traced through in one frame.
+//!
+//! Bottom level: each mesh's own BVH, in object space, built once ([`TriangleMesh::new`]).
+//! Top level: an obvhs BVH over the instances' world bounds swept over this frame's shutter
+//! ([`swept_bounds`]), padded for rounding, rebuilt per frame (`fastest_build`: one instance per
+//! leaf, so an instance's box is never merged with its neighbours'). The top level's leaf test
+//! moves the ray into the instance's object space at the ray's time ([`PoseOverTime`]) and asks
+//! the shape. Unbounded planes cannot be boxed: every ray tests them after the top level.
+//!
+//! obvhs's `CwBvh::ray_traverse_tlas_blas` cannot do this: it does not transform rays.
+//!
+//! [`TriangleMesh::new`]: crate::geometry::TriangleMesh::new
+
+use super::pose::{Pose, PoseOverTime};
+use super::swept::swept_bounds;
+use super::{Instance, SurfaceHit};
+use crate::geometry::bounds::SLACK_PER_DIAGONAL;
+use crate::geometry::{Bounds, Ray, ShapeHit};
+use obvhs::BvhBuildParams;
+use obvhs::bvh2::{Bvh2, builder::build_bvh2};
+use obvhs::ray::RayHit;
+use std::time::Duration;
+
+/// Every instance, ready to be traced for the shutter interval `[t0, t1]` of one frame.
+#[derive(Clone)]
+pub struct World {
+    instances: Vec<Instance>,
+    poses: Vec<PoseOverTime>,
+    /// Top-level BVH over the bounded instances.
+    top: Bvh2,
+    /// Instance index of each top-level primitive, in the BVH's primitive order.
+    top_instances: Vec<u32>,
+    /// Instances without finite bounds (infinite planes), tested by every ray.
+    unbounded: Vec<u32>,
+    shutter: (f32, f32),
+}
+
+impl std::fmt::Debug for World {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("World")
+            .field("instances", &self.instances)
+            .field("bounded", &self.top_instances.len())
+            .field("unbounded", &self.unbounded.len())
+            .field("shutter", &self.shutter)
+            .finish()
+    }
+}
+
+/// Top-level boxes are padded like mesh primitives ([`Bounds::padded`]), with a slack scaled
+/// by the whole scene's diagonal, since camera rays come from anywhere in the scene.
+pub(crate) fn pad_top_level(b: Bounds, scene_diagonal: f32) -> Bounds {
+    b.padded(SLACK_PER_DIAGONAL * scene_diagonal)
+}
+
+impl World {
+    /// Build for rays whose times lie in `[shutter.0, shutter.1]`. Rays at other times are
+    /// still traced correctly, by testing every instance (slow, but never wrong).
+    pub fn build(instances: Vec<Instance>, shutter: (f32, f32)) -> Self {
+        let shutter = (shutter.0.min(shutter.1), shutter.0.max(shutter.1));
+        let poses: Vec<_> = instances
+            .iter()
+            .map(|i| PoseOverTime::new(&i.motion))
+            .collect();
+        let swept: Vec<Bounds> = instances
+            .iter()
+            .map(|i| swept_bounds(i.shape.bounds(), &i.motion, shutter))
+            .collect();
+        let (bounded, unbounded): (Vec<u32>, Vec<u32>) =
+            (0..instances.len() as u32).partition(|&i| swept[i as usize].is_finite());
+        let scene = bounded
+            .iter()
+            .fold(Bounds::EMPTY, |b, &i| b.union(swept[i as usize]));
+        let boxes: Vec<_> = bounded
+            .iter()
+            .map(|&i| pad_top_level(swept[i as usize], scene.diagonal()).to_aabb())
+            .collect();
+        let top = if boxes.is_empty() {
+            Bvh2::default()
+        } else {
+            build_bvh2(
+                &boxes,
+                BvhBuildParams::fastest_build(),
+                &mut Duration::default(),
+            )
+        };
+        let top_instances = top
+            .primitive_indices
+            .iter()
+            .map(|&p| bounded[p as usize])
+            .collect();
+        Self {
+            instances,
+            poses,
+            top,
+            top_instances,
+            unbounded,
+            shutter,
+        }
+    }
+
+    pub fn instances(&self) -> &[Instance] {
+        &self.instances
+    }
+
+    /// The shutter interval the top level was built for.
+    pub fn shutter(&self) -> (f32, f32) {
+        self.shutter
+    }
+
+    /// Whether no instance moves (every pose was computed once at build).
+    pub fn is_static(&self) -> bool {
+        self.poses.iter().all(PoseOverTime::is_fixed)
+    }
+
+    fn in_shutter(&self, ray: &Ray) -> bool {
+        ray.time >= self.shutter.0 && ray.time <= self.shutter.1
+    }
+
+    /// Closest hit with `ray.t_min < t < ray.t_max`.
+    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit> {
+        let mut best: Option<(u32, ShapeHit, Pose)> = None;
+        let mut t_max = ray.t_max;
+        let mut visit = |instance: u32, t_max: f32| -> f32 {
+            let pose = self.poses[instance as usize].at(ray.time);
+            let local = pose.ray_to_object(&Ray { t_max, ..*ray });
+            match self.instances[instance as usize].shape.closest(&local) {
+                Some(h) => {
+                    best = Some((instance, h, pose));
+                    h.t
+                }
+                None => f32::INFINITY,
+            }
+        };
+        if self.in_shutter(ray) {
+            let mut hit = RayHit::none();
+            if self
+                .top
+                .ray_traverse(ray.traversal_ray(), &mut hit, |r, id| {
+                    visit(self.top_instances[id], r.tmax)
+                })
+            {
+                t_max = hit.t;
+            }
+            for &i in &self.unbounded {
+                t_max = t_max.min(visit(i, t_max));
+            }
+        } else {
+            for i in 0..self.instances.len() as u32 {
+                t_max = t_max.min(visit(i, t_max));
+            }
+        }
+        let (instance, h, pose) = best?;
+        let inst = &self.instances[instance as usize];
+        let local = pose.ray_to_object(ray);
+        let o = inst.shape.surface(&local, h);
+        Some(SurfaceHit {
+            t: h.t,
+            point: ray.at(h.t),
+            geometric_normal: pose.normal_to_world(o.geometric_normal).normalize_or_zero(),
+            shading_normal: pose.normal_to_world(o.shading_normal).normalize_or_zero(),
+            instance,
+            material: inst.material,
+        })
+    }
+
+    /// Whether anything is hit with `ray.t_min < t < ray.t_max` (shadow rays; stops at the
+    /// first hit found).
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        let blocks = |instance: u32| {
+            let local = self.poses[instance as usize]
+                .at(ray.time)
+                .ray_to_object(ray);
+            self.instances[instance as usize].shape.occluded(&local)
+        };
+        if !self.in_shutter(ray) {
+            return (0..self.instances.len() as u32).any(blocks);
+        }
+        let miss = self.top.ray_traverse_miss(ray.traversal_ray(), |_, id| {
+            if blocks(self.top_instances[id]) {
+                f32::NEG_INFINITY
+            } else {
+                f32::INFINITY
+            }
+        });
+        !miss || self.unbounded.iter().any(|&i| blocks(i))
+    }
+}
