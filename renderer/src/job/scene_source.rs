@@ -125,6 +125,8 @@ impl SceneSource {
 
     /// A stimulus's sampling: the job's point set, spp and time filter over the scene's own
     /// `settings.sampling` (its other fields).
+    // The sampler grows fields (spatial filter, sequence mode, ...): the update is for them.
+    #[allow(clippy::needless_update)]
     pub fn sampling(&self, job: &SamplingConfig) -> SamplingConfig {
         SamplingConfig {
             point_set: job.point_set.clone(),

@@ -84,7 +84,7 @@ pub enum ObjectKind {
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(
     untagged,
-    expecting = "a positive number or an array of 3 positive numbers"
+    expecting = "expected a positive number or an array of 3 positive numbers"
 )]
 pub enum Scale {
     Uniform(f32),

@@ -9,6 +9,8 @@ use std::path::Path;
 
 /// Load `path` as one mesh. Errors name the file; a file without triangles is an error.
 pub fn load_obj(path: &Path) -> Result<TriangleMesh> {
+    // tobj's options grow with its cargo features; the update keeps this compiling under any.
+    #[allow(clippy::needless_update)]
     let options = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
