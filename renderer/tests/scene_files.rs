@@ -1,8 +1,8 @@
 //! Scene files: the suite's scenes load and render, bad files are refused with messages that
 //! name the file and the field, and a job renders a real scene with its overrides.
 
-use renderer::job::scene_source::load_source;
 use renderer::job::Overrides;
+use renderer::job::scene_source::load_source;
 use renderer::render::render_frame;
 use renderer::sampling::SamplingConfig;
 use renderer::scene::Scene;
