@@ -5,13 +5,16 @@
 
 pub mod bounds;
 pub mod mesh;
+pub mod obj;
 pub mod plane;
 pub mod ray;
 pub mod sphere;
+pub mod tessellate;
 pub mod triangle;
 
 pub use bounds::Bounds;
 pub use mesh::TriangleMesh;
+pub use obj::ObjError;
 pub use plane::Plane;
 pub use ray::Ray;
 pub use sphere::Sphere;

@@ -129,14 +129,10 @@ impl WatertightRay {
         let mut v = a.x * c.y - a.y * c.x;
         let mut w = b.x * a.y - b.y * a.x;
         if u == 0.0 || v == 0.0 || w == 0.0 {
-            // Exact signs: each f32 x f32 product is exact in f64, and the difference of two
-            // exact values is rounded once, which cannot change its sign.
-            let e = |p: Vec3A, q: Vec3A| (p.x as f64 * q.y as f64 - p.y as f64 * q.x as f64) as f32;
-            u = e(c, b);
-            v = e(a, c);
-            w = e(b, a);
+            [u, v, w] = exact_edges(a, b, c);
         }
-        if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        // Mixed signs: the ray passes outside one edge (zeros are on the edge: inside).
+        if u.min(v).min(w) < 0.0 && u.max(v).max(w) > 0.0 {
             return None;
         }
         let det = u + v + w;
@@ -149,6 +145,17 @@ impl WatertightRay {
         // NaN and infinities fail both comparisons.
         (t > t_min && t < t_max).then_some((t, [u, v, w], det))
     }
+}
+
+/// The edge functions with exact signs: each f32 x f32 product is exact in f64, and the
+/// difference of two exact values is rounded once, which cannot change its sign. Rare (the ray
+/// passes exactly through an edge or vertex in the sheared frame), so kept out of line: the
+/// traversal's closure stays small enough to be inlined.
+#[cold]
+#[inline(never)]
+fn exact_edges(a: Vec3A, b: Vec3A, c: Vec3A) -> [f32; 3] {
+    let e = |p: Vec3A, q: Vec3A| (p.x as f64 * q.y as f64 - p.y as f64 * q.x as f64) as f32;
+    [e(c, b), e(a, c), e(b, a)]
 }
 
 /// Parameter `t` of the hit of `ray` with triangle `(a, b, c)` within `(t_min, t_max)`

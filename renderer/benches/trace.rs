@@ -1,0 +1,421 @@
+//! Primary + shadow rays per second through the tracing core, next to bare obvhs on the same
+//! rays (its own triangle test, one BVH in world space, no instancing, no motion).
+//!
+//! Scene: a 200k-triangle torus above a ground; 256x256 jittered pinhole rays, one shadow ray
+//! toward a directional light per hit. Run:
+//! `CARGO_TARGET_DIR=/work/target-release cargo bench -p renderer --bench trace`
+//! (results: `docs/benchmarks/renderer-trace.md`).
+//!
+//! Two groups: `trace` in wall time (what a user waits), `trace_cpu` in CPU time of all the
+//! process's threads (what the work costs; on the shared 2-core machine wall time depends on
+//! what everybody else runs). Rays per CPU-second times the thread count is the rate the cores
+//! would give if nobody else used them.
+
+use criterion::measurement::{Measurement, ValueFormatter};
+use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
+use glam::{Vec2, Vec3, Vec3A};
+use obvhs::BvhBuildParams;
+use obvhs::bvh2::{Bvh2, builder::build_bvh2_from_tris};
+use obvhs::cwbvh::{CwBvh, builder::build_cwbvh_from_tris};
+use obvhs::ray::RayHit;
+use obvhs::triangle::Triangle;
+use rayon::prelude::*;
+use renderer::accel::{Instance, World};
+use renderer::geometry::tessellate::torus;
+use renderer::geometry::{Plane, Ray, Shape, TriangleMesh};
+use renderer::hash::{hash, unit_f32};
+use renderer::motion::{Motion, MotionLayer};
+use std::hint::black_box;
+use std::sync::Arc;
+use std::time::Duration;
+
+const SIZE: u32 = 256;
+const SHUTTER: (f32, f32) = (0.0, 0.12);
+
+struct Setup {
+    mesh: Arc<TriangleMesh>,
+    location: Vec3,
+    light: Vec3A,
+    eye: Vec3A,
+    /// World-space triangles of the torus and the ground, for bare obvhs.
+    triangles: Vec<Triangle>,
+}
+
+fn setup() -> Setup {
+    // 500 x 200 x 2 = 200k triangles.
+    let mesh = Arc::new(torus(3.0, 1.0, 500, 200));
+    let location = Vec3::new(0.0, 1.2, 0.0);
+    let offset = Vec3A::from(location);
+    let mut triangles: Vec<Triangle> = (0..mesh.triangle_count())
+        .map(|i| {
+            let [v0, v1, v2] = mesh.corners(i);
+            Triangle {
+                v0: v0 + offset,
+                v1: v1 + offset,
+                v2: v2 + offset,
+            }
+        })
+        .collect();
+    let g = [(-50.0, -50.0), (50.0, -50.0), (50.0, 50.0), (-50.0, 50.0)]
+        .map(|(x, z)| Vec3A::new(x, 0.0, z));
+    triangles.push(Triangle {
+        v0: g[0],
+        v1: g[2],
+        v2: g[1],
+    });
+    triangles.push(Triangle {
+        v0: g[0],
+        v1: g[3],
+        v2: g[2],
+    });
+    Setup {
+        mesh,
+        location,
+        light: Vec3A::new(0.4, 1.0, 0.3).normalize(),
+        eye: Vec3A::new(0.0, 7.0, 9.0),
+        triangles,
+    }
+}
+
+fn world(s: &Setup, velocity: Vec3) -> World {
+    let torus = Instance {
+        shape: Shape::Mesh(s.mesh.clone()),
+        motion: Motion {
+            layers: vec![MotionLayer {
+                location: s.location,
+                velocity,
+                ..MotionLayer::default()
+            }],
+        },
+        material: 0,
+    };
+    let ground = Instance {
+        shape: Shape::Plane(Plane {
+            half_extent: Some(Vec2::splat(50.0)),
+        }),
+        motion: Motion::default(),
+        material: 1,
+    };
+    World::build(vec![torus, ground], SHUTTER)
+}
+
+/// The camera ray of pixel (x, y): jittered in the pixel and in the shutter.
+fn camera_ray(s: &Setup, x: u32, y: u32) -> Ray {
+    let h = |axis: u64| unit_f32(hash(17, &[x as u64, y as u64, axis]));
+    let u = (x as f32 + h(0)) / SIZE as f32 * 2.0 - 1.0;
+    let v = 1.0 - (y as f32 + h(1)) / SIZE as f32 * 2.0;
+    let forward = (Vec3A::new(0.0, 1.0, 0.0) - s.eye).normalize();
+    let right = forward.cross(Vec3A::Y).normalize();
+    let up = right.cross(forward);
+    let dir = forward + (right * u + up * v) * 0.6;
+    Ray::new(s.eye, dir, SHUTTER.0 + (SHUTTER.1 - SHUTTER.0) * h(2))
+}
+
+/// Rays traced for one row: (primary + shadow rays, lit hits).
+fn trace_row(s: &Setup, w: &World, y: u32) -> (u64, u64) {
+    let (mut rays, mut lit) = (0, 0);
+    for x in 0..SIZE {
+        let ray = camera_ray(s, x, y);
+        rays += 1;
+        if let Some(h) = w.intersect(&ray) {
+            rays += 1;
+            let shadow = Ray::new(h.spawn_point(s.light), s.light, ray.time);
+            lit += u64::from(!w.occluded(&shadow));
+        }
+    }
+    (rays, lit)
+}
+
+fn trace_frame(s: &Setup, w: &World) -> (u64, u64) {
+    (0..SIZE)
+        .into_par_iter()
+        .map(|y| trace_row(s, w, y))
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+}
+
+/// The same rays through bare obvhs: one BVH over world-space triangles, Möller-Trumbore,
+/// shadow ray from the hit point pushed along the triangle normal by the same rule.
+fn bare_row<B: BareBvh>(s: &Setup, bvh: &B, y: u32) -> (u64, u64) {
+    let (mut rays, mut lit) = (0, 0);
+    for x in 0..SIZE {
+        let r = camera_ray(s, x, y);
+        let ray = obvhs::ray::Ray::new_inf(r.origin, r.dir);
+        rays += 1;
+        let mut hit = RayHit::none();
+        if bvh.closest(ray, &mut hit, &s.triangles) {
+            rays += 1;
+            let tri = &s.triangles[bvh.original(hit.primitive_id)];
+            let p = r.at(hit.t);
+            let mut n = tri.compute_normal();
+            if n.dot(s.light) < 0.0 {
+                n = -n;
+            }
+            let o = p + n * (1e-5 * (1.0 + p.abs().max_element()));
+            lit += u64::from(bvh.miss(obvhs::ray::Ray::new_inf(o, s.light), &s.triangles));
+        }
+    }
+    (rays, lit)
+}
+
+trait BareBvh: Sync {
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool;
+    fn miss(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool;
+    fn original(&self, id: u32) -> usize;
+}
+
+impl BareBvh for Bvh2 {
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool {
+        self.ray_traverse(ray, hit, |r, id| {
+            tris[self.primitive_indices[id] as usize].intersect(r)
+        })
+    }
+    fn miss(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool {
+        self.ray_traverse_miss(ray, |r, id| {
+            tris[self.primitive_indices[id] as usize].intersect(r)
+        })
+    }
+    fn original(&self, id: u32) -> usize {
+        self.primitive_indices[id as usize] as usize
+    }
+}
+
+impl BareBvh for CwBvh {
+    fn closest(&self, ray: obvhs::ray::Ray, hit: &mut RayHit, tris: &[Triangle]) -> bool {
+        self.ray_traverse(ray, hit, |r, id| {
+            tris[self.primitive_indices[id] as usize].intersect(r)
+        })
+    }
+    fn miss(&self, ray: obvhs::ray::Ray, tris: &[Triangle]) -> bool {
+        self.ray_traverse_miss(ray, |r, id| {
+            tris[self.primitive_indices[id] as usize].intersect(r)
+        })
+    }
+    fn original(&self, id: u32) -> usize {
+        self.primitive_indices[id as usize] as usize
+    }
+}
+
+fn bare_frame<B: BareBvh>(s: &Setup, bvh: &B) -> (u64, u64) {
+    (0..SIZE)
+        .into_par_iter()
+        .map(|y| bare_row(s, bvh, y))
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
+}
+
+/// CPU time of every thread of this process, from `/proc/self/task/*/schedstat` (nanoseconds
+/// on CPU, first field). Linux only; elsewhere the group measures 0 and says so.
+struct CpuTime;
+
+fn process_cpu_ns() -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return 0.0;
+    };
+    tasks
+        .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .sum()
+}
+
+impl Measurement for CpuTime {
+    type Intermediate = f64;
+    type Value = f64;
+    fn start(&self) -> f64 {
+        process_cpu_ns()
+    }
+    fn end(&self, start: f64) -> f64 {
+        process_cpu_ns() - start
+    }
+    fn add(&self, a: &f64, b: &f64) -> f64 {
+        a + b
+    }
+    fn zero(&self) -> f64 {
+        0.0
+    }
+    fn to_f64(&self, v: &f64) -> f64 {
+        *v
+    }
+    fn formatter(&self) -> &dyn ValueFormatter {
+        &CpuFormatter
+    }
+}
+
+struct CpuFormatter;
+
+impl ValueFormatter for CpuFormatter {
+    fn scale_values(&self, _typical: f64, values: &mut [f64]) -> &'static str {
+        values.iter_mut().for_each(|v| *v *= 1e-6);
+        "ms cpu"
+    }
+    fn scale_throughputs(&self, _typical: f64, t: &Throughput, values: &mut [f64]) -> &'static str {
+        let n = match *t {
+            Throughput::Elements(n) => n as f64,
+            _ => 1.0,
+        };
+        values.iter_mut().for_each(|v| *v = n / *v * 1e3); // per ns -> millions per s
+        "M rays/cpu-s"
+    }
+    fn scale_for_machines(&self, _values: &mut [f64]) -> &'static str {
+        "ns"
+    }
+}
+
+struct Fixture {
+    s: Setup,
+    still: World,
+    moving: World,
+    bvh2: Bvh2,
+    cwbvh: CwBvh,
+    rays: u64,
+    moving_rays: u64,
+    bare_rays: u64,
+}
+
+fn fixture() -> Fixture {
+    let s = setup();
+    let still = world(&s, Vec3::ZERO);
+    let moving = world(&s, Vec3::new(4.0, 0.0, 1.0));
+    let bvh2 = build_bvh2_from_tris(
+        &s.triangles,
+        BvhBuildParams::medium_build(),
+        &mut Duration::default(),
+    );
+    let cwbvh = build_cwbvh_from_tris(
+        &s.triangles,
+        BvhBuildParams::medium_build(),
+        &mut Duration::default(),
+    );
+    let (rays, lit) = trace_frame(&s, &still);
+    let (bare_rays, bare_lit) = bare_frame(&s, &bvh2);
+    let (moving_rays, _) = trace_frame(&s, &moving);
+    eprintln!(
+        "rays per frame: ours {rays} ({lit} lit), bare {bare_rays} ({bare_lit} lit), moving {moving_rays}; \
+         torus {} triangles",
+        s.mesh.triangle_count()
+    );
+    Fixture {
+        s,
+        still,
+        moving,
+        bvh2,
+        cwbvh,
+        rays,
+        moving_rays,
+        bare_rays,
+    }
+}
+
+fn group<M: Measurement>(c: &mut Criterion<M>, name: &str, f: &Fixture) {
+    let (two, one) = (pool(2), pool(1));
+    let s = &f.s;
+    let mut g = c.benchmark_group(name);
+    g.sample_size(10)
+        .measurement_time(Duration::from_secs(3))
+        .warm_up_time(Duration::from_secs(1));
+    g.throughput(Throughput::Elements(f.rays));
+    g.bench_function("ours_static_2_threads", |b| {
+        b.iter(|| two.install(|| black_box(trace_frame(s, &f.still))))
+    });
+    g.bench_function("ours_static_1_thread", |b| {
+        b.iter(|| one.install(|| black_box(trace_frame(s, &f.still))))
+    });
+    g.throughput(Throughput::Elements(f.moving_rays));
+    g.bench_function("ours_moving_2_threads", |b| {
+        b.iter(|| two.install(|| black_box(trace_frame(s, &f.moving))))
+    });
+    g.throughput(Throughput::Elements(f.bare_rays));
+    g.bench_function("bare_bvh2_2_threads", |b| {
+        b.iter(|| two.install(|| black_box(bare_frame(s, &f.bvh2))))
+    });
+    g.bench_function("bare_cwbvh_2_threads", |b| {
+        b.iter(|| two.install(|| black_box(bare_frame(s, &f.cwbvh))))
+    });
+    g.finish();
+}
+
+fn bench_wall(c: &mut Criterion) {
+    let f = fixture();
+    group(c, "trace", &f);
+    let mut g = c.benchmark_group("build");
+    g.sample_size(10);
+    g.bench_function("world_build_moving", |b| {
+        b.iter_batched(
+            || (),
+            |_| black_box(world(&f.s, Vec3::new(4.0, 0.0, 1.0))),
+            BatchSize::SmallInput,
+        )
+    });
+    g.bench_function("mesh_bvh_200k_triangles", |b| {
+        let m = &f.s.mesh;
+        b.iter(|| {
+            black_box(TriangleMesh::new(
+                m.positions.clone(),
+                m.normals.clone(),
+                m.indices.clone(),
+            ))
+        })
+    });
+    g.finish();
+}
+
+/// Ratios measured in the same run, interleaved round by round so that the machine's load
+/// (shared by several people) hits every variant alike; medians over the rounds.
+fn interleaved_ratios(f: &Fixture) {
+    let (one, two) = (pool(1), pool(2));
+    let cpu = |run: &dyn Fn()| {
+        let t = process_cpu_ns();
+        run();
+        process_cpu_ns() - t
+    };
+    let wall = |run: &dyn Fn()| {
+        let t = std::time::Instant::now();
+        run();
+        t.elapsed().as_secs_f64()
+    };
+    let s = &f.s;
+    let (mut bare, mut moving, mut threads) = (vec![], vec![], vec![]);
+    for _ in 0..15 {
+        let ours = cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.still)))));
+        let b = cpu(&|| drop(one.install(|| black_box(bare_frame(s, &f.bvh2)))));
+        let m = cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.moving)))));
+        let w1 = wall(&|| drop(one.install(|| black_box(trace_frame(s, &f.still)))));
+        let w2 = wall(&|| drop(two.install(|| black_box(trace_frame(s, &f.still)))));
+        bare.push(ours / b);
+        moving.push(m / ours);
+        threads.push(w1 / w2);
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let rate =
+        f.rays as f64 / (cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.still))))) * 1e-9);
+    eprintln!(
+        "interleaved medians of 15 rounds: ours/bare CPU time {:.3}, moving/static CPU time {:.3}, \
+         wall 1 thread / 2 threads {:.3}; ours {:.2} M rays per CPU-second",
+        median(&mut bare),
+        median(&mut moving),
+        median(&mut threads),
+        rate * 1e-6
+    );
+}
+
+fn bench_cpu(c: &mut Criterion<CpuTime>) {
+    let f = fixture();
+    interleaved_ratios(&f);
+    group(c, "trace_cpu", &f);
+}
+
+criterion_group!(benches, bench_wall);
+criterion_group! {
+    name = cpu;
+    config = Criterion::default().with_measurement(CpuTime);
+    targets = bench_cpu
+}
+criterion_main!(benches, cpu);
