@@ -389,7 +389,7 @@ fn third_party_models_and_maps_load_and_render_without_nan() {
     );
     for (i, model) in models.iter().enumerate() {
         let map = &maps[i % maps.len()];
-        let mesh = renderer::scene::model::load_obj(model).unwrap();
+        let mesh = renderer::geometry::TriangleMesh::from_obj(model).unwrap();
         // Frame the model whatever its units: look at its bounds' centre from 2.5 diagonals.
         let b = mesh.bounds();
         let centre = Vec3::from((b.min + b.max) * 0.5);

@@ -6,7 +6,7 @@ use super::file::{
     SceneFile, SettingsDesc,
 };
 use super::graph::{Graph, Node};
-use super::{Scene, Settings, model};
+use super::{Scene, Settings};
 use crate::accel::Instance;
 use crate::camera::{Camera, Moving};
 use crate::environment::Environment;
@@ -419,7 +419,8 @@ fn object_shape(
                 Some(m) => m.clone(),
                 None => {
                     let m = Arc::new(
-                        model::load_obj(&file).map_err(|e| c.err(f("file"), format!("{e:#}")))?,
+                        TriangleMesh::from_obj(&file)
+                            .map_err(|e| c.err(f("file"), e.to_string()))?,
                     );
                     meshes.loaded.insert(file, m.clone());
                     m

@@ -1,11 +1,11 @@
 //! A loaded, validated scene (`blurlab-scene/1`): what the render loop needs — instances ready
 //! for [`crate::accel::World::build`], materials, lights, camera, environment map, settings.
-//! `docs/scene-format.md` describes the file; [`file`] parses it, [`build`] checks it.
+//! `docs/scene-format.md` describes the file; [`file`] parses it, [`build`] checks it (models
+//! load through [`crate::geometry::TriangleMesh::from_obj`]).
 
 pub mod build;
 pub mod file;
 pub mod graph;
-pub mod model;
 
 pub use file::{SCENE_FORMAT, SceneFile};
 
