@@ -78,12 +78,17 @@ fn setup() -> Setup {
 }
 
 fn world(s: &Setup, velocity: Vec3) -> World {
+    world_with(s, velocity, Vec3::ZERO)
+}
+
+fn world_with(s: &Setup, velocity: Vec3, angular_velocity: Vec3) -> World {
     let torus = Instance {
         shape: Shape::Mesh(s.mesh.clone()),
         motion: Motion {
             layers: vec![MotionLayer {
                 location: s.location,
                 velocity,
+                angular_velocity,
                 ..MotionLayer::default()
             }],
         },
@@ -270,6 +275,7 @@ struct Fixture {
     s: Setup,
     still: World,
     moving: World,
+    spinning: World,
     bvh2: Bvh2,
     cwbvh: CwBvh,
     rays: u64,
@@ -281,6 +287,9 @@ fn fixture() -> Fixture {
     let s = setup();
     let still = world(&s, Vec3::ZERO);
     let moving = world(&s, Vec3::new(4.0, 0.0, 1.0));
+    // Half a radian per second about the torus's axis (0.06 rad per frame).
+    let spinning = world_with(&s, Vec3::ZERO, Vec3::new(0.0, 0.5, 0.0));
+    assert!(still.is_static() && !moving.is_static() && !spinning.is_static());
     let bvh2 = build_bvh2_from_tris(
         &s.triangles,
         BvhBuildParams::medium_build(),
@@ -303,6 +312,7 @@ fn fixture() -> Fixture {
         s,
         still,
         moving,
+        spinning,
         bvh2,
         cwbvh,
         rays,
@@ -364,6 +374,8 @@ fn bench_wall(c: &mut Criterion) {
     g.finish();
 }
 
+fn ignore<T>(_: T) {}
+
 /// Ratios measured in the same run, interleaved round by round so that the machine's load
 /// (shared by several people) hits every variant alike; medians over the rounds.
 fn interleaved_ratios(f: &Fixture) {
@@ -379,28 +391,32 @@ fn interleaved_ratios(f: &Fixture) {
         t.elapsed().as_secs_f64()
     };
     let s = &f.s;
-    let (mut bare, mut moving, mut threads) = (vec![], vec![], vec![]);
+    let (mut bare, mut moving, mut spinning, mut threads) = (vec![], vec![], vec![], vec![]);
     for _ in 0..15 {
-        let ours = cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.still)))));
-        let b = cpu(&|| drop(one.install(|| black_box(bare_frame(s, &f.bvh2)))));
-        let m = cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.moving)))));
-        let w1 = wall(&|| drop(one.install(|| black_box(trace_frame(s, &f.still)))));
-        let w2 = wall(&|| drop(two.install(|| black_box(trace_frame(s, &f.still)))));
+        let ours = cpu(&|| ignore(one.install(|| black_box(trace_frame(s, &f.still)))));
+        let b = cpu(&|| ignore(one.install(|| black_box(bare_frame(s, &f.bvh2)))));
+        let m = cpu(&|| ignore(one.install(|| black_box(trace_frame(s, &f.moving)))));
+        let sp = cpu(&|| ignore(one.install(|| black_box(trace_frame(s, &f.spinning)))));
+        let w1 = wall(&|| ignore(one.install(|| black_box(trace_frame(s, &f.still)))));
+        let w2 = wall(&|| ignore(two.install(|| black_box(trace_frame(s, &f.still)))));
         bare.push(ours / b);
         moving.push(m / ours);
+        spinning.push(sp / ours);
         threads.push(w1 / w2);
     }
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    let rate =
-        f.rays as f64 / (cpu(&|| drop(one.install(|| black_box(trace_frame(s, &f.still))))) * 1e-9);
+    let rate = f.rays as f64
+        / (cpu(&|| ignore(one.install(|| black_box(trace_frame(s, &f.still))))) * 1e-9);
     eprintln!(
         "interleaved medians of 15 rounds: ours/bare CPU time {:.3}, moving/static CPU time {:.3}, \
+         spinning/static CPU time {:.3}, \
          wall 1 thread / 2 threads {:.3}; ours {:.2} M rays per CPU-second",
         median(&mut bare),
         median(&mut moving),
+        median(&mut spinning),
         median(&mut threads),
         rate * 1e-6
     );

@@ -88,7 +88,7 @@ fn a_closed_mesh_seen_from_inside_lets_no_ray_escape() {
                 Some(h) => assert!((h.t - 1.0).abs() < 1e-5, "t = {}", h.t),
                 None => escaped += 1,
             }
-            if k % 8 == 0 && !mesh.occluded(&ray) {
+            if k.is_multiple_of(8) && !mesh.occluded(&ray) {
                 unoccluded += 1;
             }
         }
@@ -100,6 +100,41 @@ fn a_closed_mesh_seen_from_inside_lets_no_ray_escape() {
         .reduce(|| (0, 0, 0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2));
     assert!(rays >= 1_000_000);
     assert_eq!((escaped, unoccluded), (0, 0), "of {rays} rays");
+}
+
+#[test]
+fn a_closed_moving_instance_far_from_the_origin_lets_no_ray_escape() {
+    // The same test through the world: the mesh scaled by 50, turned, placed near (5000, 0,
+    // -5000) and moving; rays at random shutter times aimed at where the vertices and edge
+    // midpoints are at that time. The ray reaches object space rounded, so it passes near, not
+    // through, the vertex: still exactly the rays that leak through a non-watertight test.
+    let mesh = Arc::new(icosphere(1.0, 3));
+    let targets = vertices_and_edge_midpoints(&mesh);
+    let layer = MotionLayer {
+        scale: Vec3::splat(50.0),
+        rotation: Quat::from_rotation_z(0.3),
+        ..at(
+            Vec3::new(5000.0, 0.0, -5000.0),
+            Vec3::new(-1000.0, 0.0, 50.0),
+        )
+    };
+    let shutter = (-0.06, 0.06);
+    let world = World::build(vec![placed(Shape::Mesh(mesh), vec![layer])], shutter);
+    let motion = &world.instances()[0].motion;
+    let escaped: usize = (0..16u64)
+        .into_par_iter()
+        .map(|k| {
+            let mut escaped = 0;
+            for (i, &target) in targets.iter().enumerate() {
+                let time = shutter.0 + 0.12 * unit_f32(hash(21, &[k, i as u64]));
+                let origin = motion.point_at(in_ball(22, &[k, i as u64], 0.6), time);
+                let ray = Ray::new(origin, motion.point_at(target, time) - origin, time);
+                escaped += usize::from(world.intersect(&ray).is_none() || !world.occluded(&ray));
+            }
+            escaped
+        })
+        .sum();
+    assert_eq!(escaped, 0, "of {} rays", 16 * targets.len());
 }
 
 /// The test above can fail: obvhs's own Möller-Trumbore test, over the same BVH, lets rays
@@ -129,11 +164,12 @@ fn the_non_watertight_test_does_let_rays_escape() {
 
 #[test]
 fn rays_from_far_away_aimed_at_vertices_hit() {
-    // Padding covers origins up to ~40 diagonals away (docs/geometry.md); test 5 to 30.
+    // Padding covers origins up to ~40 diagonals away (docs/geometry.md); the diagonal of the
+    // unit icosphere's box is 2 sqrt(3) = 3.46: test 3, 17 and 40 diagonals.
     let mesh = icosphere(1.0, 3);
     let n = mesh.normals.clone().expect("normals");
     let mut missed = 0;
-    for (dist, seed) in [(10.0f32, 2u64), (60.0, 3)] {
+    for (dist, seed) in [(10.0f32, 2u64), (60.0, 3), (138.0, 4)] {
         for (i, &v) in mesh.positions.iter().enumerate() {
             for k in 0..8u64 {
                 let origin = in_ball(seed, &[i as u64, k], 1.0).normalize() * dist;
