@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Font family name registered for plot text.
-const FONT: &str = "blurlab-sans";
+pub(crate) const FONT: &str = "blurlab-sans";
 
 /// One stimulus with an error.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -229,7 +229,7 @@ fn write_slopes_csv(path: &Path, slopes: &[Slope]) -> Result<()> {
     })
 }
 
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     static RESULT: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     let ok = *RESULT.get_or_init(|| {
         plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)

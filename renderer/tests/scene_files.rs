@@ -234,7 +234,7 @@ fn a_job_renders_a_real_scene_with_its_overrides() {
         height: Some(4),
         frames: Some(2),
         first_frame: Some(1),
-        exr: None,
+        ..Default::default()
     };
     let src = load_source(&path, &overrides).unwrap();
     let setup = src.setup();

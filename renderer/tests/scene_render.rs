@@ -6,7 +6,7 @@
 use glam::Vec3;
 use renderer::film::Film;
 use renderer::render::{FrameStats, render_frame};
-use renderer::sampling::SamplingConfig;
+use renderer::sampling::{SamplingConfig, SpatialFilter, TimeFilter};
 use renderer::scene::Scene;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -15,9 +15,12 @@ fn load(v: &Value, dir: &Path) -> Scene {
     Scene::from_json(&v.to_string(), &dir.join("test.json")).unwrap()
 }
 
+/// Random points with a box pixel filter: each sample uniform over its pixel, so a pixel's
+/// expected value is the plain mean over the pixel and its noise the plain Monte Carlo one.
 fn sampling(spp: u32) -> SamplingConfig {
     SamplingConfig {
         spp,
+        spatial_filter: Some(SpatialFilter::Box),
         ..SamplingConfig::default()
     }
 }
@@ -53,14 +56,6 @@ fn settings(size: [u32; 2], extra: Value) -> Value {
     s
 }
 
-/// Time filters with their CDF over the shutter fraction. The sampler implements `box` today;
-/// each filter it adds is one more line here, e.g.
-/// `("truncated_box", |s| ((s - 0.25) * 2.0).clamp(0.0, 1.0), 2.0)` and
-/// `("triangle", |s| if s < 0.5 { 2.0 * s * s } else { 1.0 - 2.0 * (1.0 - s) * (1.0 - s) }, 2.0)`
-/// (the last number: the filter's largest density, for the bias bound below).
-#[allow(clippy::type_complexity)]
-const TIME_FILTERS: &[(&str, fn(f32) -> f32, f32)] = &[("box", |s| s.clamp(0.0, 1.0), 1.0)];
-
 #[test]
 fn a_moving_edge_is_blurred_by_the_time_filters_cdf() {
     // A square of radiance 1 (ambient only: no lights, no shadow rays) on black, its right edge
@@ -71,7 +66,13 @@ fn a_moving_edge_is_blurred_by_the_time_filters_cdf() {
     let sweep = 48.0f32;
     let half_extent = 200.0f32;
     let dir = tempfile::tempdir().unwrap();
-    for &(filter, cdf, max_density) in TIME_FILTERS {
+    for filter in TimeFilter::ALL {
+        // The filter's CDF over the shutter fraction and its largest density (for the bias
+        // bound below), from the sampler's own definition of the filter.
+        let cdf = |s: f32| filter.cdf(s as f64) as f32;
+        let max_density = (0..=1000)
+            .map(|k| filter.pdf(k as f64 / 1000.0))
+            .fold(0.0, f64::max) as f32;
         let spp = 256;
         let scene = load(
             &json!({
@@ -89,16 +90,17 @@ fn a_moving_edge_is_blurred_by_the_time_filters_cdf() {
             dir.path(),
         );
         let cfg = SamplingConfig {
-            time_filter: filter.into(),
+            time_filter: filter.name().into(),
             ..sampling(spp)
         };
+        let filter = filter.name();
         let (film, stats) = render_frame(&scene, &cfg, 3, 0, None).unwrap();
         assert_all_finite(&film, &stats, filter);
         // Tolerance. Noise: each sample is 0 or 1 (variance <= 1/4) and pixels' estimates are
         // uncorrelated (independent per-pixel shifts), so a column mean over h rows has
         // standard error <= 0.5 / sqrt(h * spp); allow 5 of them. Bias: the sub-pixel offset
-        // moves the point seen by |dx| on average <= 0.5 px (box: 0.25; Gaussian sigma 0.5:
-        // 0.4), and value(X) changes by at most max_density / sweep per unit.
+        // moves the point seen by |dx| on average <= 0.5 px (box: 0.25; the default Gaussian,
+        // sigma 0.5: 0.4), and value(X) changes by at most max_density / sweep per unit.
         let noise = 5.0 * 0.5 / ((h * spp) as f32).sqrt();
         let bias = max_density * 0.5 / sweep;
         for c in 0..w {

@@ -4,6 +4,7 @@
 pub mod assets;
 pub mod export;
 pub mod job;
+pub mod pointsets;
 pub mod report;
 pub mod scene;
 
@@ -23,6 +24,8 @@ pub enum RenderCommand {
     Assets(assets::AssetsArgs),
     /// Render a scene's frames (scenes/*.json) into a folder of PNG (and EXR) files.
     Scene(scene::SceneArgs),
+    /// Measure a point set (discrepancy, spacing) and plot its 2D projections (thesis Figure 4).
+    Pointsets(pointsets::PointsetsArgs),
 }
 
 /// Run one renderer subcommand.
@@ -33,5 +36,6 @@ pub fn run(cmd: RenderCommand) -> Result<()> {
         RenderCommand::Export(a) => export::run(a),
         RenderCommand::Assets(a) => assets::run(a),
         RenderCommand::Scene(a) => scene::run(a),
+        RenderCommand::Pointsets(a) => pointsets::run(a),
     }
 }

@@ -49,11 +49,7 @@ pub fn expand(job: &Job) -> Vec<StimulusSpec> {
         for ps in &job.point_sets {
             for tf in &job.time_filters {
                 for &spp in &job.levels {
-                    let sampling = SamplingConfig {
-                        point_set: ps.clone(),
-                        spp,
-                        time_filter: tf.clone(),
-                    };
+                    let sampling = super::stimulus_sampling(ps, spp, tf, &job.overrides.sampling);
                     push(stimulus_id(&scene.name, ps, tf, spp), sampling, false);
                 }
             }
@@ -85,6 +81,7 @@ mod tests {
                 point_set: "hammersley".into(),
                 spp: 1000,
                 time_filter: "truncated_box".into(),
+                ..Default::default()
             },
             seed: 42,
             overrides: Overrides::default(),

@@ -18,7 +18,7 @@ pub use runner::{DryRun, Finalize, RunOptions, RunReport, dry_run_with_sources, 
 pub use scene_source::{dry_run, run};
 pub use shard::Shard;
 
-use crate::sampling::{FrameSampler, SamplingConfig};
+use crate::sampling::{FrameSampler, SamplingConfig, SamplingOptions};
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -89,6 +89,10 @@ pub struct Overrides {
     /// Also keep 32-bit float EXR frames of every stimulus (references always keep theirs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exr: Option<bool>,
+    /// Sampling settings for every stimulus and the reference (spatial filter and sigma,
+    /// density split, point set and shift scopes), laid over each scene's `settings.sampling`.
+    #[serde(default, skip_serializing_if = "SamplingOptions::is_empty")]
+    pub sampling: SamplingOptions,
 }
 
 impl Overrides {
@@ -184,19 +188,15 @@ impl Job {
         ] {
             check_list(field, list, |n| check_name(n).err()).map_err(|(fl, e)| at(&fl, e))?;
         }
-        let reference = SamplingConfig {
-            point_set: f
-                .reference
-                .point_set
-                .clone()
-                .unwrap_or_else(|| f.point_sets[0].clone()),
-            spp: f.reference.spp,
-            time_filter: f
-                .reference
+        let reference = stimulus_sampling(
+            f.reference.point_set.as_ref().unwrap_or(&f.point_sets[0]),
+            f.reference.spp,
+            f.reference
                 .time_filter
-                .clone()
-                .unwrap_or_else(|| f.time_filters[0].clone()),
-        };
+                .as_ref()
+                .unwrap_or(&f.time_filters[0]),
+            &f.overrides.sampling,
+        );
         if let Some(max) = f.levels.iter().max().filter(|&&m| reference.spp <= m) {
             return Err(at(
                 "reference.spp",
@@ -212,11 +212,7 @@ impl Job {
         for (i, ps) in f.point_sets.iter().enumerate() {
             for tf in &f.time_filters {
                 for &spp in &f.levels {
-                    let cfg = SamplingConfig {
-                        point_set: ps.clone(),
-                        spp,
-                        time_filter: tf.clone(),
-                    };
+                    let cfg = stimulus_sampling(ps, spp, tf, &f.overrides.sampling);
                     check_sampling(&cfg).map_err(|e| {
                         at(
                             &format!("point_sets[{i}]"),
@@ -287,6 +283,24 @@ fn check_list<T: PartialEq + std::fmt::Debug>(
         }
     }
     Ok(())
+}
+
+/// The sampling of one stimulus as the job sees it: its point set, spp and time filter plus the
+/// job's `overrides.sampling`; the scene's own settings fill in the rest when it is rendered
+/// ([`SamplingConfig::over`]).
+pub fn stimulus_sampling(
+    point_set: &str,
+    spp: u32,
+    time_filter: &str,
+    options: &SamplingOptions,
+) -> SamplingConfig {
+    SamplingConfig {
+        point_set: point_set.to_string(),
+        spp,
+        time_filter: time_filter.to_string(),
+        ..Default::default()
+    }
+    .with_options(options)
 }
 
 fn check_sampling(cfg: &SamplingConfig) -> std::result::Result<(), String> {
@@ -376,12 +390,44 @@ mod tests {
     }
 
     #[test]
+    fn sampling_overrides_reach_every_stimulus_and_are_checked() {
+        use crate::sampling::{Density, Scope, SpatialFilter};
+        let text = job_text().replace(
+            "\"seed\": 7",
+            "\"seed\": 7, \"overrides\": {\"sampling\": {\"spatial_filter\": \"box\", \
+             \"shift_scope\": \"frame\"}}",
+        );
+        let (_d, p) = setup(&text);
+        let job = Job::load(&p).unwrap();
+        assert_eq!(job.reference.spatial_filter(), SpatialFilter::Box);
+        for s in expand(&job) {
+            assert_eq!(
+                s.sampling.spatial_filter,
+                Some(SpatialFilter::Box),
+                "{}",
+                s.id
+            );
+            assert_eq!(s.sampling.shift_scope(), Scope::Frame, "{}", s.id);
+            assert_eq!(s.sampling.density(), Density::Joint);
+        }
+        // 8 temporal samples do not divide level 27: the job names the combination.
+        let text = job_text().replace(
+            "\"seed\": 7",
+            "\"seed\": 7, \"overrides\": {\"sampling\": {\"density\": {\"temporal\": 8}}}",
+        );
+        let e = error_of(&text.replace("[1, 8, 27]", "[8, 27]"));
+        assert!(e.contains("`point_sets[0]`") && e.contains("27 spp"), "{e}");
+        let e = error_of(&text.replace("\"sampling\": {", "\"sampling\": {\"sigma\": 1, "));
+        assert!(e.contains("sigma"), "{e}");
+    }
+
+    #[test]
     fn point_set_names_follow_the_sampler() {
         // The job accepts exactly what the sampler accepts, and names the field when not.
         let cfg = SamplingConfig {
             point_set: "no_such_set".into(),
             spp: 8,
-            time_filter: "box".into(),
+            ..Default::default()
         };
         let sampler_ok = FrameSampler::new(&cfg, 0, 0).is_ok();
         let text = job_text().replace("\"hammersley\"", "\"no_such_set\"");

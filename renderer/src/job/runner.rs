@@ -564,8 +564,10 @@ fn calibrate(src: &dyn FrameSource, reference: &SamplingConfig) -> Result<(f64, 
     const SPP: u32 = 8;
     let setup = src.setup();
     let small = src.resized(SIZE, SIZE)?;
+    // Joint density: a reference's density split need not divide the calibration's 8 spp.
     let cfg = SamplingConfig {
         spp: SPP,
+        density: Some(crate::sampling::Density::Joint),
         ..reference.clone()
     };
     let mid = setup.frames / 2;

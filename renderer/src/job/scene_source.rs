@@ -1,7 +1,8 @@
 //! Loading a job's scenes as frame sources, with the job's overrides applied.
 //!
 //! A scene file names its format. `blurlab-synthetic/1` is the analytic test pattern of
-//! [`SyntheticSource`] (fields `width`, `height`, `frames`, `fps`, `speed`): the whole job
+//! [`SyntheticSource`] (fields `width`, `height`, `frames`, `fps`, `speed`, and an optional
+//! `sampling` block like a real scene's `settings.sampling`): the whole job
 //! pipeline — CLI, resume after a kill, shards, Slurm script — can be exercised end to end in
 //! milliseconds with it. `blurlab-scene/1` is a real scene ([`crate::scene`]), rendered by
 //! [`SceneSource`].
@@ -30,6 +31,8 @@ struct SyntheticFile {
     fps: f64,
     #[serde(default = "default_speed")]
     speed: f32,
+    #[serde(default)]
+    sampling: SamplingConfig,
 }
 
 fn default_fps() -> f64 {
@@ -123,17 +126,10 @@ impl SceneSource {
         scene
     }
 
-    /// A stimulus's sampling: the job's point set, spp and time filter over the scene's own
-    /// `settings.sampling` (its other fields).
-    // The sampler grows fields (spatial filter, sequence mode, ...): the update is for them.
-    #[allow(clippy::needless_update)]
+    /// A stimulus's sampling: the job's point set, spp, time filter and whatever options the
+    /// job set, over the scene's own `settings.sampling` ([`SamplingConfig::over`]).
     pub fn sampling(&self, job: &SamplingConfig) -> SamplingConfig {
-        SamplingConfig {
-            point_set: job.point_set.clone(),
-            spp: job.spp,
-            time_filter: job.time_filter.clone(),
-            ..self.scene.settings.sampling.clone()
-        }
+        job.over(&self.scene.settings.sampling)
     }
 }
 
@@ -185,6 +181,7 @@ fn synthetic(text: &str, path: &Path, o: &Overrides) -> Result<Box<dyn FrameSour
     s.setup.fps = f.fps;
     s.speed = f.speed;
     s.first_frame = o.first_frame.unwrap_or(0);
+    s.sampling = f.sampling;
     Ok(Box::new(s))
 }
 
@@ -196,4 +193,38 @@ pub fn run(job: &Job, opts: &runner::RunOptions) -> Result<runner::RunReport> {
 /// Count a job's work and estimate its time; see [`runner::dry_run_with_sources`].
 pub fn dry_run(job: &Job, shard: super::Shard) -> Result<runner::DryRun> {
     runner::dry_run_with_sources(job, &load_sources(job)?, shard)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sampling::SamplingConfig;
+
+    #[test]
+    fn a_synthetic_scene_s_sampling_block_lies_under_the_stimulus() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.json");
+        std::fs::write(
+            &path,
+            r#"{"format": "blurlab-synthetic/1", "width": 4, "height": 3, "frames": 1,
+                "sampling": {"point_set": "sobol", "density": {"temporal": 3}}}"#,
+        )
+        .unwrap();
+        let src = load_source(&path, &Overrides::default()).unwrap();
+        let job = |spp| SamplingConfig {
+            point_set: "hammersley".into(),
+            spp,
+            ..Default::default()
+        };
+        // The scene's density split applies: 9 = 3 x 3 works, 8 does not divide by 3.
+        assert!(src.render(&job(9), 1, 0).is_ok());
+        let e = format!("{:#}", src.render(&job(8), 1, 0).unwrap_err());
+        assert!(e.contains("`density`"), "{e}");
+        // Unless the stimulus says otherwise.
+        let joint = SamplingConfig {
+            density: Some(crate::sampling::Density::Joint),
+            ..job(8)
+        };
+        assert!(src.render(&joint, 1, 0).is_ok());
+    }
 }

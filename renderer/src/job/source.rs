@@ -48,8 +48,8 @@ pub fn srgb8(linear: f32) -> u8 {
     (s * 255.0 + 0.5) as u8
 }
 
-/// Bright stripes drifting right plus a small very bright spot (an HDR "highlight"), box-filtered
-/// over the pixel and the shutter by the sampler's points.
+/// Bright stripes drifting right plus a small very bright spot (an HDR "highlight"), filtered
+/// over the pixel and the shutter by the sampler's warped samples.
 #[derive(Clone, Debug)]
 pub struct SyntheticSource {
     pub setup: FrameSetup,
@@ -57,6 +57,9 @@ pub struct SyntheticSource {
     pub speed: f32,
     /// Animation frame rendered as frame 0.
     pub first_frame: u32,
+    /// The scene's own sampling block, under each stimulus's settings
+    /// ([`SamplingConfig::over`]), as a real scene's `settings.sampling`.
+    pub sampling: SamplingConfig,
 }
 
 impl SyntheticSource {
@@ -70,6 +73,7 @@ impl SyntheticSource {
             },
             speed: 3.0,
             first_frame: 0,
+            sampling: SamplingConfig::default(),
         }
     }
 
@@ -95,7 +99,7 @@ impl FrameSource for SyntheticSource {
 
     fn render(&self, sampling: &SamplingConfig, seed: u64, frame: u32) -> Result<RenderedFrame> {
         let frame = self.first_frame + frame;
-        let sampler = FrameSampler::new(sampling, seed, frame)?;
+        let sampler = FrameSampler::new(&sampling.over(&self.sampling), seed, frame)?;
         let (w, h) = (self.setup.width, self.setup.height);
         let mut linear = Vec::with_capacity((w * h) as usize);
         for y in 0..h {

@@ -84,8 +84,9 @@ fn render_row(
     let mut non_finite = 0;
     for (x, pixel) in row.iter_mut().enumerate() {
         let mut sum = Vec3::ZERO;
+        let pixel_sampler = sampler.pixel(x as u32, y);
         for i in 0..spp {
-            let s = sampler.sample(x as u32, y, i);
+            let s = pixel_sampler.sample(i);
             let time = shutter.0 + s.t * (shutter.1 - shutter.0);
             // A moving camera can lose its frame only between validated frame boundaries
             // (look-at passing through the eye); such a sample is black, never NaN.

@@ -1,0 +1,23 @@
+//! Independent uniform random points: the plain Monte Carlo baseline.
+
+use super::{PointSet, Points};
+use crate::hash;
+
+/// Every coordinate an independent uniform draw keyed by (seed, point, dimension).
+pub struct Random;
+
+impl PointSet for Random {
+    fn name(&self) -> &'static str {
+        "random"
+    }
+
+    fn summary(&self) -> &'static str {
+        "independent uniform points (plain Monte Carlo)"
+    }
+
+    fn generate(&self, n: usize, dims: usize, seed: u64) -> Points {
+        Points::from_fn(n, dims, |i, d| {
+            hash::unit_f64(hash::hash(seed, &[i as u64, d as u64]))
+        })
+    }
+}
