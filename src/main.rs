@@ -17,12 +17,15 @@ enum Command {
         #[command(subcommand)]
         command: renderer::cli::RenderCommand,
     },
+    /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
+    Analyze(analysis::cli::AnalyzeArgs),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render { command } => renderer::cli::run(command),
+        Command::Analyze(args) => analysis::cli::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

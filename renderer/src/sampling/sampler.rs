@@ -258,6 +258,44 @@ mod tests {
     }
 
     #[test]
+    fn a_moving_edge_blurs_into_each_time_filter_s_cdf() {
+        // An edge sweeping L = 64 pixels to the right during the shutter lights a sample at
+        // x + 1/2 + dx when t > (x + 1/2 + dx) / L, so pixel x converges to 1 - F((x + 1/2)/L)
+        // up to the pixel's own width. Tolerance: the spatial box blurs F by at most
+        // max pdf x (1/2)/L (= 1/64 for pdf <= 2); 1024 samples in each of 8 rows give a
+        // standard error of at most sqrt(1/4/1024/8) = 0.0055 even for random points; 5 of
+        // them plus the blur is 0.044.
+        const L: f32 = 64.0;
+        for tf in TimeFilter::ALL {
+            let cfg = SamplingConfig {
+                spatial_filter: Some(SpatialFilter::Box),
+                ..config("hammersley", 1024, tf.name())
+            };
+            let s = FrameSampler::new(&cfg, 21, 0).unwrap();
+            for x in 0..L as u32 {
+                let lit: usize = (0..8)
+                    .map(|y| {
+                        let px = s.pixel(x, y);
+                        (0..s.spp())
+                            .filter(|&i| {
+                                let p = px.sample(i);
+                                x as f32 + 0.5 + p.dx < L * p.t
+                            })
+                            .count()
+                    })
+                    .sum();
+                let value = lit as f64 / (8 * s.spp()) as f64;
+                let expect = 1.0 - tf.cdf((x as f64 + 0.5) / L as f64);
+                assert!(
+                    (value - expect).abs() < 0.044,
+                    "{} at x = {x}: {value} vs {expect}",
+                    tf.name()
+                );
+            }
+        }
+    }
+
+    #[test]
     fn bad_configs_name_the_setting() {
         let err = |cfg: SamplingConfig| format!("{:#}", FrameSampler::new(&cfg, 0, 0).unwrap_err());
         let e = err(config("stratified", 100, "box"));
