@@ -22,8 +22,9 @@ fn the_suites_scenes_load_and_render_without_nan() {
         assert_eq!(scene.has_motion(), name != "static", "{name}");
         scene.settings.width = 16;
         scene.settings.height = 16;
+        // The scene's own sampling at 8 spp (a cube, as stratified sets need).
         let cfg = SamplingConfig {
-            spp: 2,
+            spp: 8,
             ..scene.settings.sampling.clone()
         };
         let last = scene.settings.frames - 1;
