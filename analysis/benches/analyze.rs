@@ -3,34 +3,17 @@
 //! fits, the t-test families. Figures and files are left out (see docs/benchmarks/analysis.md
 //! for the timed CLI run that includes them).
 
-use analysis::bootstrap::BootstrapSettings;
-use analysis::comparisons::ComparisonSettings;
 use analysis::data::Dataset;
 use analysis::psychometric::{FitSettings, fit};
 use analysis::report::{Settings, analyze};
 use analysis::simulate::StudySpec;
-use analysis::ttest::TestKind;
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 
 fn settings(resamples: usize) -> Settings {
-    Settings {
-        fit: FitSettings::default(),
-        target: 0.75,
-        bootstrap: BootstrapSettings {
-            resamples,
-            seed: 1,
-            target: 0.75,
-            confidence: 0.95,
-        },
-        comparisons: ComparisonSettings {
-            kind: TestKind::Paired,
-            levels: vec![27, 64, 125],
-            scene_extra_levels: vec![216],
-            alpha: 0.05,
-        },
-        poor_fit_p: 0.05,
-    }
+    let mut s = Settings::default();
+    s.bootstrap.resamples = resamples;
+    s
 }
 
 fn bench(c: &mut Criterion) {

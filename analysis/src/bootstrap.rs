@@ -122,7 +122,7 @@ pub fn resample(curve: &Curve, p: &[f64], seed: u64, group: u64, r: u64) -> Curv
 
 /// Bootstrap a fit. `group` keys the random stream (e.g. [`crate::data::GroupKey::id`]).
 pub fn bootstrap(fit: &Fit, group: u64, s: &BootstrapSettings) -> BootstrapResult {
-    let warm = fit.model().copied();
+    let warm = fit.warm_start();
     let replicates: Vec<(Threshold, f64)> = (0..s.resamples as u64)
         .into_par_iter()
         .map(|r| {

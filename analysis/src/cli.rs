@@ -6,7 +6,7 @@ use crate::bootstrap::BootstrapSettings;
 use crate::comparisons::ComparisonSettings;
 use crate::data::Dataset;
 use crate::psychometric::{FitSettings, LapseMode};
-use crate::report::{Settings, analyze};
+use crate::report::{Report, Settings, analyze};
 use crate::sigmoid::Sigmoid;
 use crate::ttest::TestKind;
 use anyhow::{Result, bail};
@@ -96,8 +96,30 @@ impl AnalyzeArgs {
     }
 }
 
-/// Read the logs, analyze, write the report.
-pub fn run(args: AnalyzeArgs) -> Result<()> {
+impl AnalyzeArgs {
+    /// The command's defaults for these inputs and report folder (exactly what `analyze
+    /// <inputs> --out <out>` would use), for callers that set a few fields and keep the rest.
+    pub fn new(inputs: Vec<PathBuf>, out: PathBuf) -> Self {
+        #[derive(clap::Parser)]
+        struct Defaults {
+            #[command(flatten)]
+            args: AnalyzeArgs,
+        }
+        // The inputs are set afterwards: parsing needs one (it is required) and must not read
+        // a path as an option.
+        let argv = ["analyze", "--out", "out", "--", "input"];
+        let parsed = <Defaults as clap::Parser>::try_parse_from(argv);
+        AnalyzeArgs {
+            inputs,
+            out,
+            ..parsed.expect("the command's defaults parse").args
+        }
+    }
+}
+
+/// Read the logs, analyze, write the report files and figures; returns the report (e.g. for
+/// [`Report::summary`]). Tolerated problems (torn last lines) are printed as warnings.
+pub fn run_report(args: &AnalyzeArgs) -> Result<Report> {
     let settings = args.settings()?;
     let ds = Dataset::read(&args.inputs)?;
     for w in &ds.warnings {
@@ -105,13 +127,20 @@ pub fn run(args: AnalyzeArgs) -> Result<()> {
     }
     let report = analyze(&ds, &settings);
     report.write(&args.out)?;
+    Ok(report)
+}
+
+/// The `analyze` command: [`run_report`], then a short summary on stderr.
+pub fn run(args: AnalyzeArgs) -> Result<()> {
+    let report = run_report(&args)?;
     eprintln!(
-        "analyzed {} trials of {} subjects ({} groups, {} t-tests) -> {}",
-        ds.trials,
-        ds.subjects.len(),
+        "analyzed {} trials of {} subjects ({} groups, {} t-tests) -> {}\n{}",
+        report.trials,
+        report.subjects.len(),
         report.groups.len(),
         report.comparisons.len(),
-        args.out.join("report.md").display()
+        args.out.join("report.md").display(),
+        report.summary()
     );
     Ok(())
 }

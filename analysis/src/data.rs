@@ -8,7 +8,7 @@
 use anyhow::{Result, bail};
 use experiment::log::SessionLog;
 use serde::Serialize;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 /// Correct answers out of trials at one tested level.
@@ -215,6 +215,9 @@ impl Dataset {
         };
         let mut obs = Vec::new();
         let mut warnings = Vec::new();
+        // (subject, session, trial index) -> file: a trial counted twice (a log copied under
+        // another name, or given twice) would silently double its weight.
+        let mut seen: HashMap<(&str, u32, u32), &Path> = HashMap::new();
         for log in logs {
             if log.header.design_hash != first.header.design_hash {
                 bail!(
@@ -230,6 +233,18 @@ impl Dataset {
             }
             warnings.extend(log.warnings.iter().cloned());
             for t in log.main_trials() {
+                let key = (log.header.subject.as_str(), log.header.session, t.index);
+                if let Some(other) = seen.insert(key, &log.path) {
+                    bail!(
+                        "{}: trial {} of subject {:?}, session {} is also in {}; each trial must \
+                         be counted once (is a log given twice or copied?)",
+                        log.path.display(),
+                        t.index,
+                        key.0,
+                        key.1,
+                        other.display()
+                    );
+                }
                 if t.level == 0 {
                     bail!(
                         "{}: trial {}: field `level` is 0; expected samples per pixel >= 1",
@@ -273,28 +288,24 @@ impl Dataset {
         levels.dedup();
         let n_time_filters = distinct(obs.iter().map(|o| &o.time_filter));
 
-        // Condition cells first; the marginal groupings are merged from them.
-        let mut cells: BTreeMap<GroupKey, Vec<Curve>> = BTreeMap::new();
+        // Condition cells first, keyed by their factors (names may hold any character, so the
+        // label is never parsed back); the marginal groupings are merged from them.
+        let mut cells: BTreeMap<[&str; 3], Vec<Curve>> = BTreeMap::new();
         for o in obs {
             let s = subjects.binary_search(&o.subject).unwrap_or(0);
-            let key = GroupKey {
-                grouping: Grouping::Condition,
-                label: format!("{}/{}/{}", o.scene, o.point_set, o.time_filter),
-            };
             let curves = cells
-                .entry(key)
+                .entry([&o.scene, &o.point_set, &o.time_filter])
                 .or_insert_with(|| vec![Curve::default(); subjects.len()]);
             curves[s].add(o.level, o.correct);
         }
         let mut marginals: BTreeMap<GroupKey, Vec<Curve>> = BTreeMap::new();
-        for (key, curves) in &cells {
-            let parts: Vec<&str> = key.label.splitn(3, '/').collect();
+        for (factors, curves) in &cells {
             let mut targets = vec![
-                (Grouping::Scene, parts[0]),
-                (Grouping::PointSet, parts.get(1).copied().unwrap_or("")),
+                (Grouping::Scene, factors[0]),
+                (Grouping::PointSet, factors[1]),
             ];
             if n_time_filters > 1 {
-                targets.push((Grouping::TimeFilter, parts.get(2).copied().unwrap_or("")));
+                targets.push((Grouping::TimeFilter, factors[2]));
             }
             for (grouping, label) in targets {
                 let entry = marginals
@@ -308,8 +319,14 @@ impl Dataset {
                 }
             }
         }
+        let cells = cells.into_iter().map(|(f, curves)| {
+            let key = GroupKey {
+                grouping: Grouping::Condition,
+                label: f.join("/"),
+            };
+            (key, curves)
+        });
         let groups = cells
-            .into_iter()
             .chain(marginals)
             .map(|(key, per_subject)| {
                 let mut pooled = Curve::default();
@@ -432,6 +449,25 @@ mod tests {
         // One time filter: no time-filter grouping.
         assert_eq!(ds.groups_of(Grouping::TimeFilter).count(), 0);
         assert_eq!(ham.subject_proportions(27), vec![(0, 1.0)]);
+    }
+
+    #[test]
+    fn factor_names_may_hold_the_label_separator() {
+        let obs = vec![
+            o("a", "plane/v2", "ham", 8, true),
+            o("a", "plane", "v2/ham", 8, false),
+        ];
+        let ds = Dataset::from_observations(&obs);
+        let scenes: Vec<&str> = ds
+            .groups_of(Grouping::Scene)
+            .map(|g| g.key.label.as_str())
+            .collect();
+        assert_eq!(scenes, ["plane", "plane/v2"]);
+        let ps: Vec<&str> = ds
+            .groups_of(Grouping::PointSet)
+            .map(|g| g.key.label.as_str())
+            .collect();
+        assert_eq!(ps, ["ham", "v2/ham"]);
     }
 
     #[test]

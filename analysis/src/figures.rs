@@ -20,13 +20,14 @@ use std::sync::Once;
 const SIZE: (u32, u32) = (800, 600);
 const FONT: &str = "sans-serif";
 
-/// Colours of overlaid series (the thesis used blue, red, black-ish lines).
+/// Colours of overlaid series: never red or green, which mark the target and chance lines
+/// (the thesis's dashed red and green).
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
     RGBColor(255, 127, 14),
+    RGBColor(0, 0, 0),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
     RGBColor(23, 190, 207),
 ];
 
@@ -141,14 +142,17 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, f: &Figure, target: f
         .collect();
     let lo = levels.iter().copied().min().unwrap_or(1).max(1) as f64;
     let hi = levels.iter().copied().max().unwrap_or(1).max(2) as f64;
-    // A little room either side on the log axis.
+    // A little room either side on the log axis; ticks at the tested levels, as the thesis.
     let (x0, x1) = (lo / 1.5, hi * 1.5);
+    let mut ticks: Vec<f64> = levels.iter().map(|&l| l as f64).collect();
+    ticks.sort_by(f64::total_cmp);
+    ticks.dedup();
     let mut chart = ChartBuilder::on(root)
         .caption(&f.title, (FONT, 24))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(60)
-        .build_cartesian_2d((x0..x1).log_scale(), 0.3f64..1.05f64)
+        .build_cartesian_2d((x0..x1).log_scale().with_key_points(ticks), 0.3f64..1.05f64)
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -168,45 +172,104 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, f: &Figure, target: f
             ))
             .map_err(err)?
             .label(format!("{label} (p = {y})"))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
+            .legend(move |(x, y)| {
+                // A dashed swatch, like the line it names.
+                let dash = |a: i32| {
+                    PathElement::new(vec![(x + a, y), (x + a + 6, y)], colour.stroke_width(2))
+                };
+                EmptyElement::at((0, 0)) + dash(0) + dash(10) + dash(20)
+            });
     }
+    let labels = legend_labels(&f.groups);
+    let n = f.groups.len() as f64;
     for (i, g) in f.groups.iter().enumerate() {
-        draw_group(&mut chart, g, PALETTE[i % PALETTE.len()], target, (x0, x1))?;
+        let series = Series {
+            group: g,
+            label: &labels[i],
+            colour: PALETTE[i % PALETTE.len()],
+            // Overlaid means and bars are nudged apart, 3% of a decade per series (log axis).
+            dodge: 10f64.powf(0.03 * (i as f64 - 0.5 * (n - 1.0))),
+        };
+        draw_group(&mut chart, &series, target, (x0, x1))?;
     }
+    // Lower left: the curves start near 1 at few spp, so that corner stays empty.
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font((FONT, 14))
-        .position(SeriesLabelPosition::UpperRight)
+        .position(SeriesLabelPosition::LowerLeft)
         .draw()
         .map_err(err)?;
     Ok(())
+}
+
+/// Legend labels: the group labels, without a part every overlaid condition shares (e.g. the
+/// single time filter of `plane/hammersley/truncated_box`).
+fn legend_labels(groups: &[&GroupResult]) -> Vec<String> {
+    let parts: Vec<Vec<&str>> = groups
+        .iter()
+        .map(|g| g.key.label.split('/').collect())
+        .collect();
+    let n = parts.iter().map(Vec::len).min().unwrap_or(0);
+    let shared: Vec<bool> = (0..n)
+        .map(|k| groups.len() > 1 && parts.iter().all(|p| p.len() == n && p[k] == parts[0][k]))
+        .collect();
+    parts
+        .iter()
+        .map(|p| {
+            let kept: Vec<&str> = p
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| !shared.get(*k).copied().unwrap_or(false))
+                .map(|(_, s)| *s)
+                .collect();
+            if kept.is_empty() {
+                p.join("/")
+            } else {
+                kept.join("/")
+            }
+        })
+        .collect()
 }
 
 type Chart<'a, DB> = ChartContext<
     'a,
     DB,
     Cartesian2d<
-        plotters::coord::combinators::LogCoord<f64>,
+        plotters::coord::combinators::WithKeyPoints<plotters::coord::combinators::LogCoord<f64>>,
         plotters::coord::types::RangedCoordf64,
     >,
 >;
 
+/// One group drawn in a figure.
+struct Series<'a> {
+    group: &'a GroupResult,
+    label: &'a str,
+    colour: RGBColor,
+    /// Factor on spp for the means and error bars (1 unless overlaid).
+    dodge: f64,
+}
+
 fn draw_group<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
-    g: &GroupResult,
-    colour: RGBColor,
+    series: &Series,
     target: f64,
     (x0, x1): (f64, f64),
 ) -> Result<()> {
+    let Series {
+        group: g,
+        label,
+        colour,
+        dodge,
+    } = *series;
     let style = colour.stroke_width(2);
     // Mean over subjects with standard-error bars.
     // Error bars drawn as paths (a vertical bar with caps 4% of a decade wide on the log axis).
     let cap = 10f64.powf(0.02);
     for l in &g.levels {
         let Some(e) = l.sem else { continue };
-        let x = l.level as f64;
+        let x = l.level as f64 * dodge;
         let (y0, y1) = (l.mean - e, l.mean + e);
         chart
             .draw_series([
@@ -220,10 +283,10 @@ fn draw_group<DB: DrawingBackend>(
         .draw_series(
             g.levels
                 .iter()
-                .map(|l| Circle::new((l.level as f64, l.mean), 4, colour.filled())),
+                .map(|l| Circle::new((l.level as f64 * dodge, l.mean), 4, colour.filled())),
         )
         .map_err(err)?
-        .label(format!("{} (mean +- SEM)", g.key.label))
+        .label(format!("{label} (mean +- SEM)"))
         .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
     // The pooled fit: the function itself, or for a step its values at the tested levels.
     let fitted: Vec<(f64, f64)> = match &g.pooled.shape {

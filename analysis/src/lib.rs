@@ -13,4 +13,5 @@ pub mod report;
 pub mod sigmoid;
 pub mod simulate;
 pub mod student_t;
+pub mod summary;
 pub mod ttest;

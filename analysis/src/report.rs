@@ -26,6 +26,16 @@ pub struct Settings {
     pub poor_fit_p: f64,
 }
 
+impl Default for Settings {
+    /// The `analyze` command's defaults (logistic, lapse 0, target 0.75, 2000 resamples,
+    /// paired tests at 27, 64, 125 and 216 spp for scenes, alpha 0.05).
+    fn default() -> Self {
+        crate::cli::AnalyzeArgs::new(Vec::new(), std::path::PathBuf::new())
+            .settings()
+            .expect("the command's defaults are valid")
+    }
+}
+
 /// Mean and standard error over subjects at one level.
 #[derive(Clone, Debug, Serialize)]
 pub struct LevelSummary {
@@ -146,7 +156,7 @@ pub fn level_summaries(g: &Group) -> Vec<LevelSummary> {
 }
 
 /// A row of `jnd.csv`.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct JndRow {
     pub grouping: &'static str,
     pub label: String,
@@ -176,7 +186,7 @@ pub struct JndRow {
 }
 
 /// A row of `fits.csv`.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct FitRow {
     pub grouping: &'static str,
     pub label: String,
@@ -200,7 +210,7 @@ pub struct FitRow {
 }
 
 /// A row of `ttests.csv`.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct TTestRow {
     pub family: &'static str,
     pub a: String,
@@ -427,7 +437,7 @@ impl Report {
         let _ = writeln!(
             md,
             "- Psychometric function for the two-alternative task: p(x) = 0.5 + (0.5 - lapse) \
-             S(beta (alpha - x)), x = ln spp, S = {} , lapse {}.\n\
+             S(beta (alpha - x)), x = ln spp; S: {}; lapse {}.\n\
              - Maximum likelihood on the binomial counts, pooled over subjects per group, and \
              per subject. When the likelihood is maximised by an infinitely steep function (a \
              step) the threshold is reported as the interval between two tested levels, never as \
@@ -499,7 +509,8 @@ impl Report {
             "\n## Per-subject thresholds\n\nModel threshold per subject (empirical crossing in \
              parentheses). `a-b` means the likelihood is maximised by a step between the tested \
              levels a and b: the subject's threshold lies in that interval and is not a number. \
-             Inference rests on the pooled fits and the per-subject proportions correct.\n"
+             Inference rests on the pooled fits and the per-subject proportions correct. \
+             Per-subject thresholds of each condition are in `jnd.csv`.\n"
         );
         for grouping in [Grouping::Scene, Grouping::PointSet] {
             let groups: Vec<&GroupResult> = self
@@ -602,8 +613,20 @@ fn yes_no(b: Option<bool>) -> &'static str {
     }
 }
 
-fn write_csv<T: Serialize>(path: &Path, rows: &[T]) -> Result<()> {
+/// A tidy CSV: a header line, then one line per row. With no rows the header comes from a
+/// default row, so that an empty table (e.g. no t-tests with a single scene and point set)
+/// still names its columns.
+fn write_csv<T: Serialize + Default>(path: &Path, rows: &[T]) -> Result<()> {
     renderer::atomic::write_atomic_with(path, |w| {
+        if rows.is_empty() {
+            let mut probe = csv::Writer::from_writer(Vec::new());
+            probe.serialize(T::default())?;
+            let text = probe.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?;
+            let header = text.split(|&b| b == b'\n').next().unwrap_or_default();
+            w.write_all(header)?;
+            w.write_all(b"\n")?;
+            return Ok(());
+        }
         let mut c = csv::Writer::from_writer(w);
         for r in rows {
             c.serialize(r)?;

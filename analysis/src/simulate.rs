@@ -10,8 +10,9 @@ use crate::data::{Curve, LevelCount, Observation};
 use crate::psychometric::Model;
 use crate::sigmoid::Sigmoid;
 use anyhow::Result;
-use experiment::log::{Header, LOG_FORMAT, LogLine, Side, TrialRecord};
+use experiment::log::LOG_FORMAT;
 use renderer::hash::{hash, name_id, unit_f64};
+use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
 /// Draw `trials` responses at each level from `model`; `coords` key the random stream.
@@ -144,30 +145,24 @@ impl StudySpec {
     }
 
     /// Write one `blurlab-session/1` log per subject into `dir` (`<subject>.jsonl`).
+    ///
+    /// The lines are written as JSON objects with the format's documented fields, not through
+    /// the experiment crate's structs, so that fields the experiment adds later (optional, as a
+    /// format version requires) do not break this generator.
     pub fn write_logs(&self, dir: &Path, design_hash: &str) -> Result<Vec<PathBuf>> {
         std::fs::create_dir_all(dir)?;
         let mut paths = Vec::new();
         for s in 0..self.subjects {
-            let mut lines = vec![LogLine::Header(self.header(s, design_hash))];
+            let mut lines = vec![self.header(s, design_hash)];
             // Practice trials: at the easiest level, always answered wrongly, so that counting
             // them by mistake would show.
             for i in 0..self.practice {
-                lines.push(LogLine::Trial(self.record(
-                    s,
-                    i,
-                    true,
-                    0,
-                    0,
-                    self.levels[0],
-                    false,
-                )));
+                lines.push(self.record(s, i, true, (0, 0), self.levels[0], false));
             }
             let mut index = 0;
             self.for_each_trial(|sc, ps, level, rep| {
                 let c = self.correct(s, sc, ps, level, rep);
-                lines.push(LogLine::Trial(
-                    self.record(s, index, false, sc, ps, level, c),
-                ));
+                lines.push(self.record(s, index, false, (sc, ps), level, c));
                 index += 1;
             });
             let mut text = String::new();
@@ -182,56 +177,52 @@ impl StudySpec {
         Ok(paths)
     }
 
-    fn header(&self, s: usize, design_hash: &str) -> Header {
-        Header {
-            format: LOG_FORMAT.into(),
-            subject: self.subject_name(s),
-            session: 1,
-            design: "simulated".into(),
-            design_hash: design_hash.into(),
-            seed: self.seed,
-            app_version: format!("analysis-simulate {}", env!("CARGO_PKG_VERSION")),
-            mode: "simulated".into(),
-            started_unix: 0.0,
-            trials_planned: (self.scenes.len() * self.point_sets.len() * self.levels.len()) as u32
-                * self.repeats,
-            display: None,
-            observer: None,
-        }
+    fn header(&self, s: usize, design_hash: &str) -> Value {
+        json!({
+            "kind": "header",
+            "format": LOG_FORMAT,
+            "subject": self.subject_name(s),
+            "session": 1,
+            "design": "simulated",
+            "design_hash": design_hash,
+            "seed": self.seed,
+            "app_version": format!("analysis-simulate {}", env!("CARGO_PKG_VERSION")),
+            "mode": "simulated",
+            "started_unix": 0.0,
+            "trials_planned":
+                (self.scenes.len() * self.point_sets.len() * self.levels.len()) as u32 * self.repeats,
+        })
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// One trial line; `(sc, ps)` index the scene and point set.
     fn record(
         &self,
         s: usize,
         index: u32,
         practice: bool,
-        sc: usize,
-        ps: usize,
+        (sc, ps): (usize, usize),
         level: u32,
         correct: bool,
-    ) -> TrialRecord {
+    ) -> Value {
         let h = hash(self.seed, &[0x7a, s as u64, index as u64, practice as u64]);
         let diff_pair = 1 + (h & 1) as u8;
-        let response = if correct { diff_pair } else { 3 - diff_pair };
-        TrialRecord {
-            index,
-            practice,
-            scene: self.scenes[sc].0.clone(),
-            point_set: self.point_sets[ps].0.clone(),
-            time_filter: self.time_filter.clone(),
-            level,
-            test_stimulus: format!("{}-{}-{level}", self.scenes[sc].0, self.point_sets[ps].0),
-            reference_stimulus: format!("{}-reference", self.scenes[sc].0),
-            diff_pair,
-            test_side: if h & 2 == 0 { Side::Left } else { Side::Right },
-            response,
-            correct,
-            rt_ms: 800.0,
-            onsets_ms: vec![],
-            frame_times_ms: vec![],
-            dropped_frames: 0,
-        }
+        let (scene, point_set) = (&self.scenes[sc].0, &self.point_sets[ps].0);
+        json!({
+            "kind": "trial",
+            "index": index,
+            "practice": practice,
+            "scene": scene,
+            "point_set": point_set,
+            "time_filter": self.time_filter,
+            "level": level,
+            "test_stimulus": format!("{scene}-{point_set}-{level}"),
+            "reference_stimulus": format!("{scene}-reference"),
+            "diff_pair": diff_pair,
+            "test_side": if h & 2 == 0 { "left" } else { "right" },
+            "response": if correct { diff_pair } else { 3 - diff_pair },
+            "correct": correct,
+            "rt_ms": 800.0,
+        })
     }
 }
 

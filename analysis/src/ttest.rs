@@ -71,6 +71,21 @@ fn variance(x: &[f64]) -> f64 {
     x.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (x.len() as f64 - 1.0)
 }
 
+/// All values equal up to rounding: their spread is at most 64 ulps of the largest magnitude.
+/// Proportions correct that are mathematically equal can differ in the last bits (7/12 - 3/12
+/// and 11/12 - 7/12 differ by 1 ulp), and their sample variance is then ~1e-33 instead of 0,
+/// which would turn a zero-variance test into t ~ 1e16. Genuinely different proportions k/n
+/// with n below a few thousand trials differ by far more than 64 ulps.
+fn constant(x: &[f64]) -> bool {
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    let scale = lo.abs().max(hi.abs());
+    hi - lo <= 64.0 * f64::EPSILON * scale
+}
+
 fn mean_or_zero(x: &[f64]) -> f64 {
     if x.is_empty() { 0.0 } else { mean(x) }
 }
@@ -109,10 +124,13 @@ fn paired(a: &[f64], b: &[f64]) -> Result<Statistic, String> {
     }
     let diff: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
     let (m, v) = (mean(&diff), variance(&diff));
-    if v <= 0.0 {
+    if constant(&diff) {
+        let scale = a.iter().chain(b).fold(0.0f64, |s, v| s.max(v.abs()));
+        let zero = m.abs() <= 64.0 * f64::EPSILON * scale;
         return Err(format!(
-            "zero variance: every subject's difference is {m}, so t is {}",
-            if m == 0.0 { "0/0" } else { "infinite" }
+            "zero variance: every subject's difference is {}, so t is {}",
+            if zero { 0.0 } else { m },
+            if zero { "0/0" } else { "infinite" }
         ));
     }
     let t = m / (v / n as f64).sqrt();
@@ -135,7 +153,7 @@ fn student(a: &[f64], b: &[f64]) -> Result<Statistic, String> {
     let (v1, v2) = (variance(a), variance(b));
     let df = (n1 + n2 - 2) as f64;
     let pooled = ((n1 - 1) as f64 * v1 + (n2 - 1) as f64 * v2) / df;
-    if pooled <= 0.0 {
+    if constant(a) && constant(b) {
         return Err("zero variance: both samples are constant".into());
     }
     let md = mean(a) - mean(b);
@@ -158,7 +176,7 @@ fn welch(a: &[f64], b: &[f64]) -> Result<Statistic, String> {
     let (v1, v2) = (variance(a), variance(b));
     let (s1, s2) = (v1 / n1 as f64, v2 / n2 as f64);
     let se2 = s1 + s2;
-    if se2 <= 0.0 {
+    if constant(a) && constant(b) {
         return Err("zero variance: both samples are constant".into());
     }
     let df = se2 * se2 / (s1 * s1 / (n1 - 1) as f64 + s2 * s2 / (n2 - 1) as f64);
@@ -239,6 +257,30 @@ mod tests {
         assert!(t_test(TestKind::Student, &c, &c).result.is_err());
         assert!(t_test(TestKind::Welch, &c, &c).result.is_err());
         assert!(t_test(TestKind::Paired, &[1.0], &[0.5]).result.is_err());
+        // Differences equal in exact arithmetic (4/12 each) but not in floating point: the
+        // sample variance comes out ~1e-33, which must not become t ~ 1e16.
+        let a: Vec<f64> = [7.0, 5.0, 9.0, 11.0].iter().map(|k| k / 12.0).collect();
+        let b: Vec<f64> = [3.0, 1.0, 5.0, 7.0].iter().map(|k| k / 12.0).collect();
+        assert!(a.iter().zip(&b).any(|(x, y)| x - y != a[0] - b[0]));
+        let r = t_test(TestKind::Paired, &a, &b).result.unwrap_err();
+        assert!(r.contains("zero variance") && r.contains("infinite"), "{r}");
+        let tenth = [0.1, 0.1, 0.1];
+        assert!(
+            t_test(TestKind::Welch, &tenth, &[0.3, 0.3, 0.3])
+                .result
+                .is_err()
+        );
+        assert!(
+            t_test(TestKind::Student, &tenth, &[0.3, 0.3, 0.3])
+                .result
+                .is_err()
+        );
+        // One constant sample is fine for Student and Welch (the other carries the variance).
+        assert!(
+            t_test(TestKind::Welch, &tenth, &[0.2, 0.3, 0.4])
+                .result
+                .is_ok()
+        );
         assert!(t_test(TestKind::Welch, &[], &[0.5, 0.7]).result.is_err());
     }
 

@@ -1,7 +1,9 @@
 //! The `analyze` command on real log files: a thesis-size simulated study end to end, and the
 //! refusals (mixed designs, corrupt lines, unknown formats, empty input).
 
-use analysis::cli::{AnalyzeArgs, run};
+mod common;
+
+use analysis::cli::{AnalyzeArgs, run, run_report};
 use analysis::psychometric::LapseMode;
 use analysis::sigmoid::Sigmoid;
 use analysis::simulate::StudySpec;
@@ -10,18 +12,32 @@ use std::path::{Path, PathBuf};
 
 fn args(inputs: Vec<PathBuf>, out: &Path) -> AnalyzeArgs {
     AnalyzeArgs {
-        inputs,
-        out: out.to_path_buf(),
-        target: 0.75,
-        sigmoid: Sigmoid::Logistic,
-        lapse: LapseMode::Fixed,
         bootstrap: 1000,
         seed: 5,
-        levels: vec![27, 64, 125],
-        scene_levels: vec![216],
-        test: TestKind::Paired,
-        alpha: 0.05,
+        ..AnalyzeArgs::new(inputs, out.to_path_buf())
     }
+}
+
+#[test]
+fn library_defaults_are_the_command_line_defaults() {
+    let a = AnalyzeArgs::new(vec!["a".into(), "b".into()], "out".into());
+    assert_eq!(a.inputs, vec![PathBuf::from("a"), PathBuf::from("b")]);
+    assert_eq!(a.out, PathBuf::from("out"));
+    assert_eq!(
+        (a.target, a.bootstrap, a.seed, a.alpha),
+        (0.75, 2000, 1, 0.05)
+    );
+    assert_eq!(
+        (a.sigmoid, a.lapse, a.test),
+        (Sigmoid::Logistic, LapseMode::Fixed, TestKind::Paired)
+    );
+    assert_eq!((a.levels, a.scene_levels), (vec![27, 64, 125], vec![216]));
+    // A path that looks like an option is still an input; no input is an error of the run,
+    // not a panic.
+    let odd = AnalyzeArgs::new(vec!["--out".into()], "o".into());
+    assert_eq!(odd.inputs, vec![PathBuf::from("--out")]);
+    let none = AnalyzeArgs::new(vec![], "o".into());
+    assert!(run(none).unwrap_err().to_string().contains("no input"));
 }
 
 #[test]
@@ -32,22 +48,22 @@ fn thesis_size_study_produces_every_report_file_without_nan() {
     StudySpec::thesis()
         .write_logs(&sessions, "design-1")
         .unwrap();
-    run(args(vec![sessions], &out)).unwrap();
+    let report = run_report(&args(vec![sessions], &out)).unwrap();
+    // The short summary a caller (the umbrella `demo`) prints: scenes then point sets.
+    let summary = report.summary();
+    let labels: Vec<&str> = summary.rows.iter().map(|r| r.label.as_str()).collect();
+    assert_eq!(
+        labels,
+        ["plane", "spheres", "hammersley", "poisson", "stratified"]
+    );
+    assert_eq!(summary.tests, 13);
+    let text = summary.to_string();
+    assert!(
+        text.contains("plane") && text.contains("t-tests:"),
+        "{text}"
+    );
 
-    for f in [
-        "jnd.csv",
-        "fits.csv",
-        "ttests.csv",
-        "report.json",
-        "report.md",
-    ] {
-        let text = std::fs::read_to_string(out.join(f)).unwrap();
-        let lower = text.to_lowercase();
-        assert!(
-            !lower.contains("nan") && !lower.contains("inf,"),
-            "{f} has NaN/inf"
-        );
-    }
+    common::assert_report_is_finite(&out);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
     assert_eq!(json["format"], "blurlab-report/1");
@@ -164,6 +180,45 @@ fn corrupt_lines_and_unknown_formats_are_reported_with_file_and_line() {
         err.contains("blurlab-session/9") && err.contains("format"),
         "{err}"
     );
+}
+
+#[test]
+fn a_log_given_twice_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = StudySpec {
+        subjects: 1,
+        ..StudySpec::thesis()
+    };
+    let logs = spec.write_logs(&dir.path().join("sessions"), "h").unwrap();
+    let copy = dir.path().join("sessions/s01-copy.jsonl");
+    std::fs::copy(&logs[0], &copy).unwrap();
+    let err = run(args(
+        vec![dir.path().join("sessions")],
+        &dir.path().join("out"),
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("s01-copy.jsonl") && err.contains("s01.jsonl") && err.contains("counted once"),
+        "{err}"
+    );
+}
+
+#[test]
+fn one_scene_and_one_point_set_give_an_empty_ttest_table_with_its_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = StudySpec {
+        subjects: 3,
+        scenes: vec![("plane".into(), 40.0)],
+        point_sets: vec![("sobol".into(), 1.0)],
+        ..StudySpec::thesis()
+    };
+    spec.write_logs(&dir.path().join("s"), "h").unwrap();
+    let out = dir.path().join("out");
+    run(args(vec![dir.path().join("s")], &out)).unwrap();
+    let text = std::fs::read_to_string(out.join("ttests.csv")).unwrap();
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(text.starts_with("family,a,b,level,test,"), "{text}");
 }
 
 #[test]
