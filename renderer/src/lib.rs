@@ -3,14 +3,22 @@
 
 pub mod accel;
 pub mod atomic;
+pub mod camera;
 pub mod cli;
 pub mod convergence;
+pub mod environment;
 pub mod export;
+pub mod film;
 pub mod geometry;
 pub mod hash;
 pub mod job;
+pub mod light;
 pub mod manifest;
+pub mod material;
 pub mod metrics;
 pub mod motion;
 pub mod procedural;
+pub mod render;
 pub mod sampling;
+pub mod scene;
+pub mod shading;

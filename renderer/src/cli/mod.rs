@@ -6,6 +6,7 @@ pub mod export;
 pub mod job;
 pub mod pointsets;
 pub mod report;
+pub mod scene;
 
 use anyhow::Result;
 use clap::Subcommand;
@@ -21,6 +22,8 @@ pub enum RenderCommand {
     Export(export::ExportArgs),
     /// Regenerate the procedural models and environment maps under scenes/.
     Assets(assets::AssetsArgs),
+    /// Render a scene's frames (scenes/*.json) into a folder of PNG (and EXR) files.
+    Scene(scene::SceneArgs),
     /// Measure a point set (discrepancy, spacing) and plot its 2D projections (thesis Figure 4).
     Pointsets(pointsets::PointsetsArgs),
 }
@@ -32,6 +35,7 @@ pub fn run(cmd: RenderCommand) -> Result<()> {
         RenderCommand::Report(a) => report::run(a),
         RenderCommand::Export(a) => export::run(a),
         RenderCommand::Assets(a) => assets::run(a),
+        RenderCommand::Scene(a) => scene::run(a),
         RenderCommand::Pointsets(a) => pointsets::run(a),
     }
 }

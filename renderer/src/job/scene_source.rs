@@ -4,14 +4,17 @@
 //! [`SyntheticSource`] (fields `width`, `height`, `frames`, `fps`, `speed`, and an optional
 //! `sampling` block like a real scene's `settings.sampling`): the whole job
 //! pipeline — CLI, resume after a kill, shards, Slurm script — can be exercised end to end in
-//! milliseconds with it. Every other format goes to the renderer's scene loader.
+//! milliseconds with it. `blurlab-scene/1` is a real scene ([`crate::scene`]), rendered by
+//! [`SceneSource`].
 
-use super::source::{FrameSource, SyntheticSource};
+use super::source::{FrameSetup, FrameSource, RenderedFrame, SyntheticSource};
 use super::{Job, Overrides, runner};
 use crate::sampling::SamplingConfig;
+use crate::scene::{SCENE_FORMAT, Scene};
 use anyhow::{Context, Result, bail};
 use serde::Deserialize;
 use std::path::Path;
+use std::sync::Arc;
 
 /// Format tag of a synthetic test scene.
 pub const SYNTHETIC_FORMAT: &str = "blurlab-synthetic/1";
@@ -61,11 +64,103 @@ pub fn load_source(path: &Path, overrides: &Overrides) -> Result<Box<dyn FrameSo
         .with_context(|| format!("{}: not a JSON scene file", path.display()))?;
     match head.format.as_deref() {
         Some(SYNTHETIC_FORMAT) => synthetic(&text, path, overrides),
+        Some(SCENE_FORMAT) => {
+            let scene = Scene::from_json(&text, path)?;
+            for w in &scene.warnings {
+                eprintln!("warning: {w}");
+            }
+            Ok(Box::new(SceneSource::new(Arc::new(scene), overrides)?))
+        }
         other => bail!(
-            "{}: field `format` is {other:?}; this build renders {SYNTHETIC_FORMAT:?} scenes \
-             only",
+            "{}: field `format` is {other:?}; expected {SCENE_FORMAT:?} (or \
+             {SYNTHETIC_FORMAT:?} for the analytic test pattern)",
             path.display()
         ),
+    }
+}
+
+/// A real scene as a job's frame source, with the job's overrides: size, number of frames, and
+/// the scene frame shown as the stimulus's frame 0.
+#[derive(Clone, Debug)]
+pub struct SceneSource {
+    scene: Arc<Scene>,
+    width: u32,
+    height: u32,
+    frames: u32,
+    first_frame: u32,
+}
+
+impl SceneSource {
+    /// Apply `o` to `scene`; stimuli must lie within the scene's animation.
+    pub fn new(scene: Arc<Scene>, o: &Overrides) -> Result<Self> {
+        let s = &scene.settings;
+        let first_frame = o.first_frame.unwrap_or(0);
+        let frames = o.frames.unwrap_or(s.frames.saturating_sub(first_frame));
+        if frames == 0 || first_frame as u64 + frames as u64 > s.frames as u64 {
+            bail!(
+                "{}: the job's overrides ask for {frames} frames from scene frame {first_frame}, \
+                 but the scene's animation has {} frames (settings.frames); expected \
+                 first_frame + frames <= {}",
+                scene.path.display(),
+                s.frames,
+                s.frames
+            );
+        }
+        if o.width == Some(0) || o.height == Some(0) {
+            bail!("the job's overrides `width` and `height` must be at least 1");
+        }
+        Ok(Self {
+            width: o.width.unwrap_or(s.width),
+            height: o.height.unwrap_or(s.height),
+            frames,
+            first_frame,
+            scene,
+        })
+    }
+
+    /// The scene at this source's size.
+    fn sized_scene(&self) -> Scene {
+        let mut scene = (*self.scene).clone();
+        scene.settings.width = self.width;
+        scene.settings.height = self.height;
+        scene
+    }
+
+    /// A stimulus's sampling: the job's point set, spp, time filter and whatever options the
+    /// job set, over the scene's own `settings.sampling` ([`SamplingConfig::over`]).
+    pub fn sampling(&self, job: &SamplingConfig) -> SamplingConfig {
+        job.over(&self.scene.settings.sampling)
+    }
+}
+
+impl FrameSource for SceneSource {
+    fn setup(&self) -> FrameSetup {
+        FrameSetup {
+            width: self.width,
+            height: self.height,
+            frames: self.frames,
+            fps: self.scene.settings.fps,
+        }
+    }
+
+    fn render(&self, sampling: &SamplingConfig, seed: u64, frame: u32) -> Result<RenderedFrame> {
+        let scene = self.sized_scene();
+        let (film, _) = crate::render::render_frame(
+            &scene,
+            &self.sampling(sampling),
+            seed,
+            self.first_frame + frame,
+            None,
+        )?;
+        Ok(film.develop(scene.settings.exposure))
+    }
+
+    fn resized(&self, width: u32, height: u32) -> Result<Box<dyn FrameSource>> {
+        Ok(Box::new(Self {
+            width,
+            height,
+            ..self.clone()
+        }))
     }
 }
 

@@ -1,0 +1,249 @@
+//! The environment map: a lat-long (equirectangular) HDR image seen by every ray that leaves
+//! the scene, primary or reflected, looked up with bilinear filtering.
+//!
+//! The mapping is the one of [`crate::procedural::sky::direction`]: u = 0.5 looks along -z,
+//! u = 0.75 along +x, row 0 is the zenith (+y). Loading sanitises the texels so that no NaN or
+//! infinity can reach a frame: NaN becomes 0, values above [`MAX_RADIANCE`] (infinity
+//! included) are clamped to it, with a warning naming the file; negative values (lossy EXR
+//! compression leaves some around -0.003) become 0 silently.
+
+use glam::{Vec3, Vec3A};
+use std::f32::consts::PI;
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+
+/// Largest radiance kept from a map. Real HDR captures peak around 1e5 (the sun; half floats
+/// stop at 65504), so this only removes broken values while keeping sums of thousands of
+/// samples far from f32 overflow.
+pub const MAX_RADIANCE: f32 = 1e6;
+
+#[derive(Clone, Debug)]
+pub struct Environment {
+    width: usize,
+    height: usize,
+    texels: Vec<Vec3>,
+    intensity: f32,
+    /// cos and sin of the map's turn about +y.
+    turn: (f32, f32),
+}
+
+/// What sanitising changed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Repairs {
+    pub nan: usize,
+    pub too_large: usize,
+    pub negative: usize,
+}
+
+impl Environment {
+    /// A map from row-major texels (row 0 at the zenith), sanitised, with what was repaired.
+    pub fn new(
+        width: usize,
+        height: usize,
+        mut texels: Vec<Vec3>,
+        intensity: f32,
+        rotation_degrees: f32,
+    ) -> (Self, Repairs) {
+        assert_eq!(texels.len(), width * height, "texel count");
+        let repairs = sanitise(&mut texels);
+        let r = rotation_degrees.to_radians();
+        (
+            Self {
+                width,
+                height,
+                texels,
+                intensity,
+                turn: (r.cos(), r.sin()),
+            },
+            repairs,
+        )
+    }
+
+    /// Load a `.hdr` or `.exr` map; the second value is a warning naming the file when broken
+    /// values had to be repaired.
+    pub fn load(
+        path: &Path,
+        intensity: f32,
+        rotation_degrees: f32,
+    ) -> Result<(Self, Option<String>)> {
+        let (texels, w, h) = read_texels(path)?;
+        if w == 0 || h == 0 {
+            bail!("{}: the environment map is empty", path.display());
+        }
+        let (env, r) = Self::new(w, h, texels, intensity, rotation_degrees);
+        let warning = (r.nan + r.too_large > 0).then(|| {
+            format!(
+                "{}: {} texels held NaN and {} infinity or values above {MAX_RADIANCE:e}; \
+                 NaN was replaced by 0 and the others clamped to {MAX_RADIANCE:e}",
+                path.display(),
+                r.nan,
+                r.too_large
+            )
+        });
+        Ok((env, warning))
+    }
+
+    /// Radiance arriving along direction `d` (pointing away from the scene, any length).
+    #[inline]
+    pub fn radiance(&self, d: Vec3A) -> Vec3 {
+        let (c, s) = self.turn;
+        // Undo the map's turn about +y.
+        let x = d.x * c - d.z * s;
+        let z = d.x * s + d.z * c;
+        let len = d.length();
+        if !(len > 0.0 && len.is_finite()) {
+            return Vec3::ZERO;
+        }
+        let u = x.atan2(-z) * (0.5 / PI) + 0.5;
+        let v = (d.y / len).clamp(-1.0, 1.0).acos() * (1.0 / PI);
+        self.bilinear(u, v) * self.intensity
+    }
+
+    /// Bilinear lookup at texture coordinates (u wraps around, v clamps at the poles).
+    fn bilinear(&self, u: f32, v: f32) -> Vec3 {
+        let fx = u * self.width as f32 - 0.5;
+        let fy = (v * self.height as f32 - 0.5).clamp(0.0, (self.height - 1) as f32);
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (ax, ay) = (fx - x0, fy - y0);
+        let w = self.width as i64;
+        let col = |x: i64| x.rem_euclid(w) as usize;
+        let (c0, c1) = (col(x0 as i64), col(x0 as i64 + 1));
+        let r0 = y0 as usize;
+        let r1 = (r0 + 1).min(self.height - 1);
+        let at = |r: usize, c: usize| self.texels[r * self.width + c];
+        let top = at(r0, c0).lerp(at(r0, c1), ax);
+        let bottom = at(r1, c0).lerp(at(r1, c1), ax);
+        top.lerp(bottom, ay)
+    }
+}
+
+fn sanitise(texels: &mut [Vec3]) -> Repairs {
+    let mut r = Repairs::default();
+    for t in texels.iter_mut() {
+        for c in [&mut t.x, &mut t.y, &mut t.z] {
+            if c.is_nan() {
+                r.nan += 1;
+                *c = 0.0;
+            } else if *c > MAX_RADIANCE {
+                r.too_large += 1;
+                *c = MAX_RADIANCE;
+            } else if *c < 0.0 {
+                r.negative += 1;
+                *c = 0.0;
+            }
+        }
+    }
+    r
+}
+
+fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "exr" => {
+            let (px, w, h) = crate::job::linear_frame::read_exr(path)
+                .with_context(|| format!("cannot read environment map {}", path.display()))?;
+            Ok((
+                px.into_iter().map(Vec3::from).collect(),
+                w as usize,
+                h as usize,
+            ))
+        }
+        "hdr" => {
+            let img = image::open(path)
+                .with_context(|| format!("cannot read environment map {}", path.display()))?
+                .into_rgb32f();
+            let (w, h) = img.dimensions();
+            let px = img.pixels().map(|p| Vec3::from(p.0)).collect();
+            Ok((px, w as usize, h as usize))
+        }
+        _ => bail!(
+            "{}: environment maps must be .hdr or .exr files",
+            path.display()
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::procedural::sky;
+
+    /// A 8x4 map whose texel (x, y) holds (x, y, 1).
+    fn ramp() -> Environment {
+        let px = (0..4)
+            .flat_map(|y| (0..8).map(move |x| Vec3::new(x as f32, y as f32, 1.0)))
+            .collect();
+        Environment::new(8, 4, px, 1.0, 0.0).0
+    }
+
+    #[test]
+    fn lookup_inverts_the_procedural_sky_mapping_at_texel_centres() {
+        let env = ramp();
+        for (x, y) in [(0, 0), (3, 1), (5, 2), (7, 3)] {
+            let d = sky::direction((x as f32 + 0.5) / 8.0, (y as f32 + 0.5) / 4.0);
+            let c = env.radiance(Vec3A::from(d) * 3.0);
+            assert!(
+                (c - Vec3::new(x as f32, y as f32, 1.0)).length() < 1e-4,
+                "{x},{y}: {c}"
+            );
+        }
+    }
+
+    #[test]
+    fn lookup_interpolates_and_wraps_around_the_seam() {
+        let env = ramp();
+        // Halfway between texels 7 and 0 of row 1: u = 1.0 (the seam).
+        let d = sky::direction(1.0, 1.5 / 4.0);
+        let c = env.radiance(Vec3A::from(d));
+        assert!((c.x - 3.5).abs() < 1e-3 && (c.y - 1.0).abs() < 1e-4, "{c}");
+        // Quarter of the way from row 1 to row 2 at texel column 2.
+        let d = sky::direction(2.5 / 8.0, 1.75 / 4.0);
+        let c = env.radiance(Vec3A::from(d));
+        assert!((c - Vec3::new(2.0, 1.25, 1.0)).length() < 1e-3, "{c}");
+    }
+
+    #[test]
+    fn rotation_turns_the_map_about_y() {
+        let px = (0..4)
+            .flat_map(|y| (0..8).map(move |x| Vec3::new(x as f32, y as f32, 1.0)))
+            .collect();
+        let (env, _) = Environment::new(8, 4, px, 2.0, 90.0);
+        // Turned by 90° about +y, what the map shows at -z (u = 0.5) is now seen at
+        // R_y(90°)(-z) = -x; intensity doubles it.
+        let c = env.radiance(Vec3A::NEG_X);
+        let plain = ramp().radiance(Vec3A::NEG_Z);
+        assert!((c - 2.0 * plain).length() < 1e-3, "{c} vs {plain}");
+    }
+
+    #[test]
+    fn broken_texels_are_repaired_and_counted() {
+        let px = vec![
+            Vec3::new(f32::NAN, 1.0, 2.0),
+            Vec3::new(f32::INFINITY, 1e30, -0.003),
+            Vec3::ONE,
+            Vec3::new(f32::NEG_INFINITY, 0.5, 0.5),
+        ];
+        let (env, r) = Environment::new(2, 2, px, 1.0, 0.0);
+        assert_eq!(
+            r,
+            Repairs {
+                nan: 1,
+                too_large: 2,
+                negative: 2
+            }
+        );
+        assert!(
+            env.texels
+                .iter()
+                .all(|t| t.is_finite() && t.min_element() >= 0.0)
+        );
+        assert!(env.texels.iter().all(|t| t.max_element() <= MAX_RADIANCE));
+        for d in [Vec3A::X, Vec3A::Y, Vec3A::NEG_Z, Vec3A::ZERO, Vec3A::NAN] {
+            assert!(env.radiance(d).is_finite());
+        }
+    }
+}

@@ -1,0 +1,56 @@
+//! The film: one linear HDR value per pixel (the mean of its samples, each sample one (u, v, t)
+//! point), and its two outputs — 8-bit sRGB for display (exposure, then clamp to [0, 1], then
+//! the sRGB curve) and 32-bit float linear values (after exposure) for measurement.
+
+use crate::job::source::{RenderedFrame, srgb8};
+use glam::Vec3;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    /// Mean radiance per pixel, row-major from the top-left corner.
+    pub pixels: Vec<Vec3>,
+}
+
+impl Film {
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            pixels: vec![Vec3::ZERO; width as usize * height as usize],
+        }
+    }
+
+    /// Linear values after `exposure` and the display frame made from them.
+    pub fn develop(&self, exposure: f32) -> RenderedFrame {
+        let linear: Vec<[f32; 3]> = self
+            .pixels
+            .iter()
+            .map(|p| (*p * exposure).to_array())
+            .collect();
+        let display = linear.iter().flat_map(|p| p.map(srgb8)).collect();
+        RenderedFrame { linear, display }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn develop_applies_exposure_then_clamp_then_srgb() {
+        let mut f = Film::new(3, 1);
+        f.pixels = vec![
+            Vec3::new(0.5, 2.0, 0.0),
+            Vec3::splat(0.107),
+            Vec3::splat(100.0),
+        ];
+        let r = f.develop(2.0);
+        assert_eq!(r.linear[0], [1.0, 4.0, 0.0]);
+        assert_eq!(&r.display[0..3], &[255, 255, 0]);
+        // 0.107 * 2 = 0.214: sRGB mid grey (128).
+        assert!((r.display[3] as i32 - 128).abs() <= 1);
+        assert_eq!(r.linear[2], [200.0; 3], "linear values are not clamped");
+    }
+}

@@ -1,0 +1,146 @@
+//! A loaded, validated scene (`blurlab-scene/1`): what the render loop needs — instances ready
+//! for [`crate::accel::World::build`], materials, lights, camera, environment map, settings.
+//! `docs/scene-format.md` describes the file; [`file`] parses it, [`build`] checks it (models
+//! load through [`crate::geometry::TriangleMesh::from_obj`]).
+
+pub mod build;
+pub mod file;
+pub mod graph;
+
+pub use file::{SCENE_FORMAT, SceneFile};
+
+use crate::accel::Instance;
+use crate::camera::{Camera, Moving};
+use crate::environment::Environment;
+use crate::light::Light;
+use crate::material::Material;
+use crate::motion::MotionLayer;
+use crate::sampling::SamplingConfig;
+use anyhow::{Context, Result};
+use glam::{Quat, Vec3};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The settings block, checked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    pub start_time: f64,
+    pub frame_time: f64,
+    pub frames: u32,
+    pub fps: f64,
+    pub width: u32,
+    pub height: u32,
+    pub ambient_light: Vec3,
+    /// Mirror bounces after the primary ray.
+    pub max_depth: u32,
+    pub exposure: f32,
+    pub sampling: SamplingConfig,
+}
+
+impl Settings {
+    /// Scene-time interval during which frame `frame`'s shutter is open:
+    /// `[start + frame * frame_time, start + (frame + 1) * frame_time]`.
+    pub fn shutter(&self, frame: u32) -> (f32, f32) {
+        let t0 = self.start_time + frame as f64 * self.frame_time;
+        (t0 as f32, (t0 + self.frame_time) as f32)
+    }
+}
+
+/// Everything the renderer draws.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The file it came from (for messages).
+    pub path: PathBuf,
+    pub materials: Vec<Material>,
+    /// One per drawn object and instance, with its whole motion chain.
+    pub instances: Vec<Instance>,
+    pub lights: Vec<Light>,
+    pub camera: Camera,
+    pub environment: Option<Arc<Environment>>,
+    pub settings: Settings,
+    /// Problems that did not stop loading (repaired environment texels), one line each.
+    pub warnings: Vec<String>,
+}
+
+impl Scene {
+    /// Read and check a scene file; models and maps resolve against its folder.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("cannot read scene {}", path.display()))?;
+        Self::from_json(&text, path)
+    }
+
+    /// Parse and check scene text as if read from `path`.
+    pub fn from_json(text: &str, path: &Path) -> Result<Self> {
+        build::build(build::parse(text, path)?, path)
+    }
+
+    /// Whether any material casts reflection rays.
+    pub fn has_reflections(&self) -> bool {
+        self.settings.max_depth > 0 && self.materials.iter().any(Material::reflective)
+    }
+
+    /// Whether anything moves (objects or camera).
+    pub fn has_motion(&self) -> bool {
+        self.camera.is_moving() || self.instances.iter().any(|i| !i.motion.is_static())
+    }
+
+    /// The same scene held still where it is at scene time `t`: every velocity and angular
+    /// velocity zero, every pose and the camera as they are at `t`. What motion costs is the
+    /// difference between rendering a frame of this scene and of the frozen one at the frame's
+    /// mid-shutter time (the same picture without the blur).
+    pub fn frozen_at(&self, t: f32) -> Self {
+        let mut s = self.clone();
+        for inst in &mut s.instances {
+            for layer in &mut inst.motion.layers {
+                *layer = MotionLayer {
+                    location: layer.location + layer.velocity * t,
+                    velocity: Vec3::ZERO,
+                    rotation: Quat::from_scaled_axis(layer.angular_velocity * t) * layer.rotation,
+                    angular_velocity: Vec3::ZERO,
+                    scale: layer.scale,
+                };
+            }
+        }
+        let c = &self.camera;
+        let still = |m: Moving| Moving::still(Vec3::from(m.at(t)));
+        s.camera = Camera::new(
+            still(c.location),
+            still(c.look_at),
+            still(c.up),
+            c.fov_degrees,
+        )
+        .unwrap_or_else(|| c.clone());
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frozen_scene_stands_where_the_moving_one_was() {
+        let text = r#"{
+            "format": "blurlab-scene/1",
+            "materials": [{"name": "m"}],
+            "objects": [{"name": "b", "type": "sphere", "radius": 1, "material": "m",
+                         "velocity": [1, 2, 0], "angular_velocity": [0, 45, 0]}],
+            "groups": [{"name": "g", "children": ["b"], "angular_velocity": [10, 0, 0],
+                        "velocity": [0, 0, -3]}],
+            "camera": {"location": [0, 0, 9], "location_velocity": [1, 0, 0],
+                       "look_at": [0, 0, 0], "fov": 40},
+            "settings": {"frame_time": 0.1, "frames": 3, "width": 8, "height": 8}
+        }"#;
+        let scene = Scene::from_json(text, Path::new("s.json")).unwrap();
+        assert!(scene.has_motion());
+        let t = 1.7;
+        let frozen = scene.frozen_at(t);
+        assert!(!frozen.has_motion());
+        let a = scene.instances[0].motion.world_from_object(t);
+        let b = frozen.instances[0].motion.world_from_object(-5.0);
+        assert!(a.abs_diff_eq(b, 1e-5), "{a:?} vs {b:?}");
+        let (ca, cb) = (scene.camera.frame_at(t), frozen.camera.frame_at(0.0));
+        assert_eq!(ca.unwrap().eye, cb.unwrap().eye);
+    }
+}

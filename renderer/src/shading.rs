@@ -1,0 +1,177 @@
+//! Whitted-style shading (thesis Chapter II, "Ray Tracing"): at a hit, the ambient term, Lambert
+//! and Phong terms from every point and directional light that a shadow ray finds unblocked,
+//! and a Fresnel-weighted mirror reflection up to `max_depth` bounces; rays that leave the scene
+//! see the environment map. No global illumination. Shadow and reflection rays start at
+//! [`SurfaceHit::spawn_point`] and keep the primary ray's time.
+//!
+//! The radiance of a hit with view direction `v`, normal `n` and material (ka, kd, ks, p, F):
+//!
+//! ```text
+//! L = ka * A + Σ_lights V * E * (kd * max(0, n·l) + ks * max(0, r_l·v)^p) + F(n·v) * ks * L(reflected ray)
+//! ```
+//!
+//! with A the ambient light, E the light's irradiance, V its visibility, r_l the mirror image of
+//! the light direction l, and F the material's Fresnel curve.
+
+use crate::accel::{SurfaceHit, World};
+use crate::geometry::Ray;
+use crate::material::Material;
+use crate::scene::Scene;
+use glam::{Vec3, Vec3A};
+use std::cell::Cell;
+
+/// Traces rays through one frame's world (one tracer per thread's piece of work: it counts
+/// the rays it casts).
+pub struct Tracer<'a> {
+    pub world: &'a World,
+    pub scene: &'a Scene,
+    max_depth: u32,
+    rays: Cell<u64>,
+}
+
+impl<'a> Tracer<'a> {
+    pub fn new(world: &'a World, scene: &'a Scene) -> Self {
+        let max_depth = if scene.has_reflections() {
+            scene.settings.max_depth
+        } else {
+            0
+        };
+        Self {
+            world,
+            scene,
+            max_depth,
+            rays: Cell::new(0),
+        }
+    }
+
+    /// Rays cast so far (primary, shadow, reflection).
+    pub fn rays(&self) -> u64 {
+        self.rays.get()
+    }
+
+    /// Radiance arriving at `ray.origin` from direction `-ray.dir` (`ray.dir` unit length);
+    /// `depth` mirror bounces have been taken already.
+    pub fn radiance(&self, ray: &Ray, depth: u32) -> Vec3 {
+        self.rays.set(self.rays.get() + 1);
+        match self.world.intersect(ray) {
+            Some(hit) => self.shade(ray, &hit, depth),
+            None => self.background(ray.dir),
+        }
+    }
+
+    fn background(&self, dir: Vec3A) -> Vec3 {
+        match &self.scene.environment {
+            Some(env) => env.radiance(dir),
+            None => Vec3::ZERO,
+        }
+    }
+
+    fn shade(&self, ray: &Ray, hit: &SurfaceHit, depth: u32) -> Vec3 {
+        let m = &self.scene.materials[hit.material as usize];
+        let v = -ray.dir;
+        let (ng, ns) = facing_normals(hit, v);
+        let mut l = m.ambient * self.scene.settings.ambient_light;
+        if m.lit() {
+            l += self.direct(ray, hit, m, ng, ns, v);
+        }
+        if depth < self.max_depth && m.reflective() {
+            l += self.reflection(ray, hit, m, ng, ns, v, depth);
+        }
+        l
+    }
+
+    /// Lambert and Phong terms of every light that reaches the point.
+    fn direct(
+        &self,
+        ray: &Ray,
+        hit: &SurfaceHit,
+        m: &Material,
+        ng: Vec3A,
+        ns: Vec3A,
+        v: Vec3A,
+    ) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        for light in &self.scene.lights {
+            let Some(s) = light.sample(hit.point) else {
+                continue;
+            };
+            let cos = ns.dot(s.towards);
+            // A light below the shading or the geometric surface cannot light it.
+            if cos <= 0.0 || ng.dot(s.towards) <= 0.0 {
+                continue;
+            }
+            let origin = hit.spawn_point(s.towards);
+            let shadow = Ray {
+                origin,
+                dir: s.towards,
+                time: ray.time,
+                t_min: 0.0,
+                t_max: if s.distance.is_finite() {
+                    (hit.point - origin).dot(s.towards) + s.distance
+                } else {
+                    f32::INFINITY
+                },
+            };
+            self.rays.set(self.rays.get() + 1);
+            if self.world.occluded(&shadow) {
+                continue;
+            }
+            let r = reflect(-s.towards, ns);
+            let phong = r.dot(v).max(0.0).powf(m.phong_exponent);
+            sum += s.irradiance * (m.diffuse * cos + m.specular * phong);
+        }
+        sum
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn reflection(
+        &self,
+        ray: &Ray,
+        hit: &SurfaceHit,
+        m: &Material,
+        ng: Vec3A,
+        ns: Vec3A,
+        v: Vec3A,
+        depth: u32,
+    ) -> Vec3 {
+        let Some(fresnel) = m.fresnel else {
+            return Vec3::ZERO;
+        };
+        let mut dir = reflect(ray.dir, ns);
+        // An interpolated normal can send the mirror ray into the surface; mirror about the
+        // true surface instead.
+        if dir.dot(ng) <= 0.0 {
+            dir = reflect(ray.dir, ng);
+        }
+        let weight = fresnel.reflectance(ns.dot(v)) * m.specular;
+        let bounce = Ray::new(hit.spawn_point(dir), dir, ray.time);
+        weight * self.radiance(&bounce, depth + 1)
+    }
+}
+
+/// Geometric and shading normals turned towards the viewer `v` (surfaces are two-sided); a
+/// degenerate normal falls back to facing the viewer.
+#[inline]
+fn facing_normals(hit: &SurfaceHit, v: Vec3A) -> (Vec3A, Vec3A) {
+    let mut ng = hit.geometric_normal;
+    if ng == Vec3A::ZERO || !ng.is_finite() {
+        ng = v;
+    }
+    if ng.dot(v) < 0.0 {
+        ng = -ng;
+    }
+    let mut ns = hit.shading_normal;
+    if ns == Vec3A::ZERO || !ns.is_finite() {
+        ns = ng;
+    }
+    if ns.dot(ng) < 0.0 {
+        ns = -ns;
+    }
+    (ng, ns)
+}
+
+/// `d` mirrored about the unit normal `n`.
+#[inline]
+fn reflect(d: Vec3A, n: Vec3A) -> Vec3A {
+    d - n * (2.0 * d.dot(n))
+}
