@@ -17,21 +17,36 @@ enum Command {
         #[command(subcommand)]
         command: renderer::cli::RenderCommand,
     },
-    /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
-    Analyze(analysis::cli::AnalyzeArgs),
     /// Run a subject's session (full screen; continues an interrupted session).
     Run(experiment::cli::RunArgs),
     /// Run simulated subjects through a design, writing their session logs.
     Simulate(experiment::cli::SimulateArgs),
+    /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
+    Analyze(analysis::cli::AnalyzeArgs),
+    /// The whole study on built-in defaults: render the demo stimuli, simulate 12 subjects,
+    /// analyze, and write results/demo/.
+    Demo(blurlab::demo::DemoArgs),
+}
+
+fn demo(args: &blurlab::demo::DemoArgs) -> anyhow::Result<()> {
+    let out = blurlab::demo::run(args)?;
+    println!("\n{}\n", out.jnd_summary);
+    println!("stimuli:   {}", out.stimuli.display());
+    println!("sessions:  {}", out.sessions.display());
+    println!("report:    {}", out.report.join("report.md").display());
+    println!("speed/err: {}", out.convergence.display());
+    println!("summary:   {}", out.summary.display());
+    Ok(())
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render { command } => renderer::cli::run(command),
-        Command::Analyze(args) => analysis::cli::run(args),
         Command::Run(args) => experiment::cli::run(args),
         Command::Simulate(args) => experiment::cli::simulate(args),
+        Command::Analyze(args) => analysis::cli::run(args),
+        Command::Demo(args) => demo(&args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

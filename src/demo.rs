@@ -1,0 +1,175 @@
+//! `blurlab demo`: the whole study on built-in defaults, end to end and small.
+//!
+//! 1. render the demo stimulus set (`scenes/jobs/demo.json`: both scenes, the thesis's three
+//!    point sets, levels 1..125, a reference per scene) into `stimuli/demo/` — resumable, so a
+//!    second run reuses every finished frame;
+//! 2. check it the way a session would (preflight of `scenes/designs/demo.json`);
+//! 3. run simulated subjects (`scenes/observers/thesis.json`: the thesis's JNDs, 40 spp for the
+//!    plane scene and 100 for the spheres) through that design into `results/demo/sessions/`;
+//! 4. analyze them into `results/demo/report/` (fits, JNDs, t-tests, figures) and tabulate the
+//!    stimuli's speed against error beside them (`results/demo/report/convergence/`);
+//! 5. write `results/demo/summary.md` and print where everything is.
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The demo's inputs, relative to the project root.
+const JOB: &str = "scenes/jobs/demo.json";
+const DESIGN: &str = "scenes/designs/demo.json";
+const OBSERVER: &str = "scenes/observers/thesis.json";
+
+/// Render a small stimulus set, run simulated subjects through it, and write the report.
+#[derive(Args, Clone, Debug)]
+pub struct DemoArgs {
+    /// Project root holding `scenes/` (stimuli go to `<root>/stimuli`, as the demo design
+    /// expects) [default: the current folder if it holds the demo job, else the source checkout].
+    #[arg(long)]
+    pub root: Option<PathBuf>,
+    /// Results folder [default: <root>/results/demo].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Number of simulated subjects (the thesis had 12).
+    #[arg(long, default_value_t = 12)]
+    pub subjects: usize,
+    /// Parametric bootstrap resamples per pooled fit.
+    #[arg(long, default_value_t = 2000)]
+    pub bootstrap: usize,
+    /// Hide progress bars.
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+/// Where the demo put its files.
+#[derive(Clone, Debug)]
+pub struct DemoOutput {
+    pub stimuli: PathBuf,
+    pub sessions: PathBuf,
+    pub report: PathBuf,
+    pub convergence: PathBuf,
+    pub summary: PathBuf,
+    /// Frames rendered by this run and frames reused from an earlier one.
+    pub frames_rendered: u64,
+    pub frames_reused: u64,
+    /// The analysis's summary (JND per scene and point set, test counts), for printing.
+    pub jnd_summary: analysis::summary::Summary,
+}
+
+/// Run the demo.
+pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
+    let root = resolve_root(args.root.as_deref())?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| root.join("results").join("demo"));
+    let t0 = Instant::now();
+
+    eprintln!("[1/4] rendering stimuli ({JOB})");
+    let (stimuli, frames_rendered, frames_reused) = render(&root, !args.no_progress)?;
+    let t_render = t0.elapsed().as_secs_f64();
+
+    eprintln!("[2/4] checking the stimuli against the design ({DESIGN})");
+    let design = experiment::Design::load(&root.join(DESIGN))?;
+    let checks = experiment::preflight::PreflightOptions {
+        check_hashes: true,
+        progress: false,
+    };
+    experiment::preflight::preflight(&design, checks).into_result()?;
+
+    eprintln!("[3/4] simulating {} subjects ({OBSERVER})", args.subjects);
+    let observer = experiment::Observer::load(&root.join(OBSERVER))?;
+    let sessions = out.join("sessions");
+    clear_logs(&sessions)?;
+    experiment::simulate::simulate(&design, &observer, args.subjects, &sessions)?;
+
+    eprintln!("[4/4] analyzing");
+    let report = out.join("report");
+    let mut analyze = analysis::cli::AnalyzeArgs::new(vec![sessions.clone()], report.clone());
+    analyze.bootstrap = args.bootstrap;
+    let analysis_report = analysis::cli::run_report(&analyze)?;
+    let convergence = report.join("convergence");
+    renderer::convergence::write_report(&stimuli, &convergence)?;
+
+    let jnd_summary = analysis_report.summary();
+    let summary = out.join("summary.md");
+    let text = crate::summary::markdown(&crate::summary::Inputs {
+        stimuli: &stimuli,
+        report: &report,
+        convergence: &convergence,
+        jnd: &jnd_summary,
+        render_seconds: t_render,
+        total_seconds: t0.elapsed().as_secs_f64(),
+    })?;
+    renderer::atomic::write_atomic(&summary, text.as_bytes())?;
+    Ok(DemoOutput {
+        stimuli,
+        sessions,
+        report,
+        convergence,
+        summary,
+        frames_rendered,
+        frames_reused,
+        jnd_summary,
+    })
+}
+
+/// The project root: given, or the current folder when it holds the demo job, or the checkout
+/// this program was built from.
+fn resolve_root(given: Option<&Path>) -> Result<PathBuf> {
+    let candidates: Vec<PathBuf> = match given {
+        Some(p) => vec![p.to_path_buf()],
+        None => vec![
+            PathBuf::from("."),
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")),
+        ],
+    };
+    for c in &candidates {
+        if c.join(JOB).is_file() {
+            return Ok(c.clone());
+        }
+    }
+    bail!(
+        "cannot find {JOB} under {}; run the demo from the blurlab folder or pass --root",
+        candidates
+            .iter()
+            .map(|c| c.display().to_string())
+            .collect::<Vec<_>>()
+            .join(" or ")
+    )
+}
+
+/// Render (or finish rendering) the demo job; returns its stimulus folder and the frames
+/// rendered and reused.
+fn render(root: &Path, progress: bool) -> Result<(PathBuf, u64, u64)> {
+    let job = renderer::job::Job::load(&root.join(JOB))?;
+    let mut opts = renderer::job::RunOptions::new(root.join("stimuli"));
+    opts.progress = progress;
+    let done = renderer::job::run(&job, &opts)?;
+    eprintln!(
+        "      {} frames rendered, {} reused from an earlier run",
+        done.frames_rendered, done.frames_skipped
+    );
+    if done.manifest.is_none() {
+        bail!(
+            "{}: the stimulus set is incomplete ({} frames missing)",
+            done.job_dir.display(),
+            done.frames_missing
+        );
+    }
+    Ok((done.job_dir, done.frames_rendered, done.frames_skipped))
+}
+
+/// Remove earlier simulated logs so that a changed subject count leaves no stale subject.
+fn clear_logs(sessions: &Path) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(sessions) else {
+        return Ok(());
+    };
+    for e in entries {
+        let p = e?.path();
+        if p.extension().is_some_and(|x| x == "jsonl") {
+            std::fs::remove_file(&p).with_context(|| format!("cannot remove {}", p.display()))?;
+        }
+    }
+    Ok(())
+}

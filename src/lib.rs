@@ -1,0 +1,5 @@
+//! The root package of blurlab: the umbrella command line (`src/main.rs`) and the `demo`
+//! pipeline, which runs the three crates end to end on built-in defaults.
+
+pub mod demo;
+pub mod summary;

@@ -1,0 +1,217 @@
+//! `results/<study>/summary.md`: the perceptual result (pooled JND per scene and point set) next
+//! to the numerical one (each stimulus's error against its reference and its render time), and
+//! the error a scene's stimuli have at its JND — the number that lets a reader compare what
+//! people see with what a metric measures.
+
+use analysis::jnd::Threshold;
+use analysis::summary::Summary;
+use anyhow::Result;
+use renderer::convergence::{Row, log_log_slope, rows};
+use renderer::manifest::Manifest;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// What the summary is made of.
+pub struct Inputs<'a> {
+    pub stimuli: &'a Path,
+    pub report: &'a Path,
+    pub convergence: &'a Path,
+    pub jnd: &'a Summary,
+    pub render_seconds: f64,
+    pub total_seconds: f64,
+}
+
+/// The summary as Markdown.
+pub fn markdown(inp: &Inputs) -> Result<String> {
+    let manifest = Manifest::load(inp.stimuli)?;
+    let rows = rows(&manifest);
+    let mut s = String::new();
+    writeln!(s, "# Study summary: {}\n", manifest.job)?;
+    writeln!(
+        s,
+        "{} stimuli in `{}`; full report in `{}` (report.md, jnd.csv, ttests.csv, figures), speed \
+         against error in `{}`. Rendering took {:.1} s, the whole run {:.1} s.\n",
+        manifest.stimuli.len(),
+        inp.stimuli.display(),
+        inp.report.display(),
+        inp.convergence.display(),
+        inp.render_seconds,
+        inp.total_seconds
+    )?;
+    jnd_table(&mut s, inp.jnd)?;
+    error_at_jnd(&mut s, inp.jnd, &rows)?;
+    speed_table(&mut s, &rows)?;
+    Ok(s)
+}
+
+fn jnd_table(s: &mut String, jnd: &Summary) -> Result<()> {
+    writeln!(
+        s,
+        "## JND (spp at p = {}, pooled over subjects)\n",
+        jnd.target
+    )?;
+    writeln!(
+        s,
+        "| grouping | label | JND | {:.0}% CI | empirical crossing | fit |",
+        100.0 * jnd.confidence
+    )?;
+    writeln!(s, "|---|---|---|---|---|---|")?;
+    for r in &jnd.rows {
+        let ci = match (&r.ci_lower, &r.ci_upper) {
+            (Some(l), Some(u)) => format!("{} to {}", l.display(), u.display()),
+            _ => "none".into(),
+        };
+        writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} |",
+            r.grouping.name(),
+            r.label,
+            r.jnd.display(),
+            ci,
+            r.empirical.display(),
+            if r.poor_fit { "poor" } else { "ok" }
+        )?;
+    }
+    writeln!(
+        s,
+        "\nt-tests: {} of {} significant at alpha = {} ({} after Holm's correction).\n",
+        jnd.significant, jnd.tests, jnd.alpha, jnd.significant_holm
+    )?;
+    Ok(())
+}
+
+/// Per scene, the error of its stimuli interpolated (log-log, over the point sets' mean) at the
+/// scene's pooled JND.
+fn error_at_jnd(s: &mut String, jnd: &Summary, rows: &[Row]) -> Result<()> {
+    writeln!(s, "## Error at the JND\n")?;
+    writeln!(
+        s,
+        "Each scene's stimulus error (mean over its point sets and time filters at each level), \
+         interpolated linearly in log error against log spp at the scene's JND. A JND outside \
+         the tested levels has no interpolated error.\n"
+    )?;
+    writeln!(s, "| scene | JND (spp) | RMSE (linear) | FLIP |")?;
+    writeln!(s, "|---|---|---|---|")?;
+    for r in jnd
+        .rows
+        .iter()
+        .filter(|r| r.grouping == analysis::data::Grouping::Scene)
+    {
+        let scene_rows: Vec<&Row> = rows.iter().filter(|x| x.scene == r.label).collect();
+        let (rmse, flip) = match &r.jnd {
+            Threshold::Value { spp } => (
+                interpolate(&level_means(&scene_rows, |x| x.rmse), *spp),
+                interpolate(&level_means(&scene_rows, |x| x.flip), *spp),
+            ),
+            _ => (None, None),
+        };
+        let show = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.4}"));
+        writeln!(
+            s,
+            "| {} | {} | {} | {} |",
+            r.label,
+            r.jnd.display(),
+            show(rmse),
+            show(flip)
+        )?;
+    }
+    writeln!(s)?;
+    Ok(())
+}
+
+/// Mean of `f` over the rows at each level, sorted by level.
+fn level_means(rows: &[&Row], f: impl Fn(&Row) -> f64) -> Vec<(f64, f64)> {
+    let mut levels: Vec<u32> = rows.iter().map(|r| r.spp).collect();
+    levels.sort_unstable();
+    levels.dedup();
+    levels
+        .into_iter()
+        .map(|l| {
+            let v: Vec<f64> = rows.iter().filter(|r| r.spp == l).map(|r| f(r)).collect();
+            (l as f64, v.iter().sum::<f64>() / v.len() as f64)
+        })
+        .collect()
+}
+
+/// Piecewise-linear interpolation in (ln x, ln y) at `x`; `None` outside the points' range or
+/// where an error is not positive.
+pub fn interpolate(points: &[(f64, f64)], x: f64) -> Option<f64> {
+    let i = points.windows(2).position(|w| w[0].0 <= x && x <= w[1].0)?;
+    let ((x0, y0), (x1, y1)) = (points[i], points[i + 1]);
+    if y0 <= 0.0 || y1 <= 0.0 || x0 <= 0.0 {
+        return None;
+    }
+    if x1 == x0 {
+        return Some(y0);
+    }
+    let w = (x.ln() - x0.ln()) / (x1.ln() - x0.ln());
+    Some((y0.ln() + w * (y1.ln() - y0.ln())).exp())
+}
+
+fn speed_table(s: &mut String, rows: &[Row]) -> Result<()> {
+    writeln!(s, "## Speed against error\n")?;
+    writeln!(
+        s,
+        "Per stimulus: render seconds and error against its scene's reference (RMSE and relative \
+         MSE in linear HDR, PSNR and FLIP on the display frames, averaged over frames). The \
+         slope is the least-squares slope of log RMSE against log spp (-0.5 is plain Monte \
+         Carlo).\n"
+    )?;
+    let mut groups: Vec<(&str, &str, &str)> = rows
+        .iter()
+        .map(|r| {
+            (
+                r.scene.as_str(),
+                r.point_set.as_str(),
+                r.time_filter.as_str(),
+            )
+        })
+        .collect();
+    groups.sort_unstable();
+    groups.dedup();
+    writeln!(
+        s,
+        "| scene | point set | time filter | spp | seconds | RMSE | rel. MSE | PSNR (dB) | FLIP |"
+    )?;
+    writeln!(s, "|---|---|---|---|---|---|---|---|---|")?;
+    for &(scene, ps, tf) in &groups {
+        let mut g: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.scene == scene && r.point_set == ps && r.time_filter == tf)
+            .collect();
+        g.sort_by_key(|r| r.spp);
+        for r in &g {
+            writeln!(
+                s,
+                "| {scene} | {ps} | {tf} | {} | {:.2} | {:.4} | {:.4} | {:.1} | {:.4} |",
+                r.spp, r.render_seconds, r.rmse, r.rel_mse, r.psnr, r.flip
+            )?;
+        }
+        let pts: Vec<(f64, f64)> = g.iter().map(|r| (r.spp as f64, r.rmse)).collect();
+        if let Some(slope) = log_log_slope(&pts) {
+            writeln!(s, "| {scene} | {ps} | {tf} | slope | | {slope:.2} | | | |")?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn interpolation_is_exact_on_a_power_law_and_refuses_extrapolation() {
+        // y = 3 x^-0.5 is a straight line in log-log: interpolation must reproduce it.
+        let pts: Vec<(f64, f64)> = [1.0, 8.0, 27.0, 64.0]
+            .iter()
+            .map(|&x: &f64| (x, 3.0 * x.powf(-0.5)))
+            .collect();
+        for x in [1.0, 2.0, 8.0, 40.0, 64.0] {
+            let y = interpolate(&pts, x).unwrap();
+            assert!((y - 3.0 * x.powf(-0.5)).abs() < 1e-12, "{x}: {y}");
+        }
+        assert_eq!(interpolate(&pts, 0.5), None);
+        assert_eq!(interpolate(&pts, 100.0), None);
+        assert_eq!(interpolate(&[(1.0, 0.0), (8.0, 1.0)], 2.0), None);
+    }
+}
