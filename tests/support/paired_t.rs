@@ -12,9 +12,22 @@
 
 use analysis::student_t::two_sided_p;
 
-/// P(p < alpha) for the paired t-test over `n` subjects whose differences d have
-/// `P(d = i - m) = pmf[i]`, m = (pmf.len() - 1) / 2.
-pub fn rejection_probability(pmf: &[f64], n: usize, alpha: f64) -> f64 {
+/// P(p < alpha) for the two-sided paired t-test over `n` subjects whose differences d have
+/// `P(d = i - m) = pmf[i]`, m = (pmf.len() - 1) / 2, split by the sign of t: the rejections
+/// with t < 0 and those with t > 0.
+#[derive(Clone, Copy, Debug)]
+pub struct Rejection {
+    pub negative: f64,
+    pub positive: f64,
+}
+
+impl Rejection {
+    pub fn total(self) -> f64 {
+        self.negative + self.positive
+    }
+}
+
+pub fn rejection_probability(pmf: &[f64], n: usize, alpha: f64) -> Rejection {
     let m = (pmf.len() as i64 - 1) / 2;
     let s_max = n as i64 * m;
     let q_max = n as i64 * m * m;
@@ -39,7 +52,10 @@ pub fn rejection_probability(pmf: &[f64], n: usize, alpha: f64) -> f64 {
         cur = next;
     }
     let n_f = n as f64;
-    let mut reject = 0.0;
+    let mut reject = Rejection {
+        negative: 0.0,
+        positive: 0.0,
+    };
     for s in -s_max..=s_max {
         for q in 0..=q_max {
             let w = cur[at(s, q)];
@@ -49,7 +65,11 @@ pub fn rejection_probability(pmf: &[f64], n: usize, alpha: f64) -> f64 {
             }
             let t = s as f64 * (n_f - 1.0).sqrt() / (spread as f64).sqrt();
             if two_sided_p(t, n_f - 1.0) < alpha {
-                reject += w;
+                if t < 0.0 {
+                    reject.negative += w;
+                } else {
+                    reject.positive += w;
+                }
             }
         }
     }
@@ -62,16 +82,25 @@ fn a_small_case_matches_enumeration() {
     // each tested with the textbook statistic mean / (sd / sqrt n).
     let pmf = [0.25, 0.5, 0.25];
     let n = 4;
-    let mut expected = 0.0;
+    let (mut expected, mut expected_negative) = (0.0, 0.0);
     for code in 0..81 {
-        let d: Vec<f64> = (0..n).map(|k| ((code / 3i64.pow(k)) % 3 - 1) as f64).collect();
+        let d: Vec<f64> = (0..n)
+            .map(|k| ((code / 3i64.pow(k)) % 3 - 1) as f64)
+            .collect();
         let p: f64 = d.iter().map(|&x| pmf[(x + 1.0) as usize]).product();
         let mean = d.iter().sum::<f64>() / n as f64;
         let var = d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n as f64 - 1.0);
         if var > 1e-12 && two_sided_p(mean / (var / n as f64).sqrt(), n as f64 - 1.0) < 0.2 {
             expected += p;
+            expected_negative += if mean < 0.0 { p } else { 0.0 };
         }
     }
     let got = rejection_probability(&pmf, n as usize, 0.2);
-    assert!(expected > 0.01 && (got - expected).abs() < 1e-12, "{got} vs {expected}");
+    assert!(
+        expected > 0.01 && (got.total() - expected).abs() < 1e-12,
+        "{got:?} vs {expected}"
+    );
+    // A symmetric difference: each tail holds half.
+    assert!((got.negative - expected_negative).abs() < 1e-12, "{got:?}");
+    assert!((got.negative - 0.5 * expected).abs() < 1e-12, "{got:?}");
 }
