@@ -226,6 +226,24 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<csv::StringRecord>) {
     (header, rows)
 }
 
+/// The mean over subjects of each subject's proportion correct in `scene` at `level` (main
+/// trials), read from the logs.
+fn mean_proportion_correct(logs: &[PathBuf], scene: &str, level: u32) -> f64 {
+    let per_subject: Vec<f64> = logs
+        .iter()
+        .map(|path| {
+            let log = SessionLog::read(path).expect("log");
+            let trials: Vec<_> = log
+                .main_trials()
+                .filter(|t| t.scene == scene && t.level == level)
+                .collect();
+            assert!(!trials.is_empty());
+            trials.iter().filter(|t| t.correct).count() as f64 / trials.len() as f64
+        })
+        .collect();
+    per_subject.iter().sum::<f64>() / per_subject.len() as f64
+}
+
 /// Every report file exists and parses; the JSON's tables have the CSVs' rows; the report
 /// names the logs' design, hash, subjects and files; every figure report.md links exists.
 fn check_report(dir: &Path, design: &Design, logs: &[PathBuf]) -> serde_json::Value {
@@ -267,6 +285,24 @@ fn check_report(dir: &Path, design: &Design, logs: &[PathBuf]) -> serde_json::Va
         assert!(
             jnd.iter().any(|r| r["subject"] == s.as_str()),
             "no rows of {s}"
+        );
+    }
+    // The t-test table's means are the logs' per-subject proportions correct at that level,
+    // pooled over point sets, averaged over subjects.
+    let level = LEVELS[2];
+    let row = json["ttests"]
+        .as_array()
+        .expect("ttests")
+        .iter()
+        .find(|r| r["family"] == "scene" && r["level"] == level)
+        .expect("a scene test at 27 spp");
+    for (side, scene) in [("mean_a", &row["a"]), ("mean_b", &row["b"])] {
+        let scene = scene.as_str().expect("scene label");
+        let expected = mean_proportion_correct(logs, scene, level);
+        let got = row[side].as_f64().expect("a mean");
+        assert!(
+            (got - expected).abs() < 1e-12,
+            "{scene}: {got} vs {expected}"
         );
     }
     let md = std::fs::read_to_string(dir.join("report.md")).expect("report.md exists");

@@ -463,7 +463,8 @@ fn thesis_design_recovers_thresholds_power_and_error_rates() {
 }
 
 /// The precise version: 1000 replications (coverage within +-0.008 for conditions).
-/// `CARGO_TARGET_DIR=/work/target-release cargo test --release --test recovery -- --ignored --nocapture many_replications`
+/// `cargo test --release --test recovery -- --ignored --nocapture many_replications` (about 100 s
+/// of CPU: docs/benchmarks/recovery.md)
 #[test]
 #[ignore]
 fn many_replications() {
@@ -471,7 +472,8 @@ fn many_replications() {
 }
 
 /// At a CLI-like resample count (999: expected coverage exactly 0.95 again).
-/// `CARGO_TARGET_DIR=/work/target-release cargo test --release --test recovery -- --ignored --nocapture cli_like_resamples`
+/// `cargo test --release --test recovery -- --ignored --nocapture cli_like_resamples` (about 5 min
+/// of CPU)
 #[test]
 #[ignore]
 fn cli_like_resamples() {
