@@ -99,20 +99,27 @@ impl SpinChain {
     }
 
     /// The pose at time `t`: the world position of the object's origin,
-    /// `p_0 + u_0 t + F_0 R_1 (p_1 + u_1 t + L_1 R_2 (…))`, and
+    /// `p_0 + u_0 t + L_0 R_1 (p_1 + u_1 t + L_1 R_2 (…))`, and
     /// `object_from_world = L_n^-1 R_n^T … L_1^-1 R_1^T L_0^-1`.
-    #[inline]
+    ///
+    /// Kept out of line (and out of the hot code's layout) so the leaf test of the traversal
+    /// stays small for the fixed and translating poses ([`super::pose::PoseOverTime::at`]).
+    #[cold]
+    #[inline(never)]
     pub fn at(&self, t: f32) -> Pose {
         let mut translation = self.head.offset + self.head.velocity * t;
         // World-from-(current block's input) linear part, and its inverse.
         let mut forward = self.head.linear;
         let mut inverse = self.head.inverse;
-        for (spin, b) in &self.tail {
+        for (k, (spin, b)) in self.tail.iter().enumerate() {
             let r = Mat3A::from_axis_angle(spin.axis, spin.rate * t);
-            let fr = forward * r;
-            translation += fr * (b.offset + b.velocity * t);
-            forward = fr * b.linear;
+            translation += forward * (r * (b.offset + b.velocity * t));
             inverse = b.inverse * (r.transpose() * inverse);
+            // Matrix-vector products where they do, and no forward part after the innermost
+            // spin: most chains spin once, and this halves their matrix-matrix products.
+            if k + 1 < self.tail.len() {
+                forward = forward * r * b.linear;
+            }
         }
         Pose {
             translation,

@@ -54,7 +54,8 @@ pub enum PoseOverTime {
         at_zero: Pose,
         velocity: Vec3A,
     },
-    Spinning(SpinChain),
+    /// Boxed: the chain is larger than the other variants, and the poses are read per ray.
+    Spinning(Box<SpinChain>),
 }
 
 impl PoseOverTime {
@@ -64,7 +65,7 @@ impl PoseOverTime {
             PoseOverTime::Fixed(at_zero)
         } else {
             match SpinChain::new(motion) {
-                Some(chain) => PoseOverTime::Spinning(chain),
+                Some(chain) => PoseOverTime::Spinning(Box::new(chain)),
                 None => PoseOverTime::Translating {
                     at_zero,
                     velocity: motion.linear_velocity(),
@@ -73,7 +74,11 @@ impl PoseOverTime {
         }
     }
 
-    #[inline]
+    /// Always inlined, so fixed and translating poses stay in registers in the traversal's
+    /// leaf test (with the chain inlined too, LLVM made this whole function a call returning
+    /// the pose through memory, callgrind showed); the spinning case is a call to
+    /// [`SpinChain::at`], whose own work dwarfs the call.
+    #[inline(always)]
     pub fn at(&self, t: f32) -> Pose {
         match self {
             PoseOverTime::Fixed(p) => *p,
