@@ -2,8 +2,9 @@
 //!
 //! [`World`] is a two-level structure (top level over instances' swept bounds, per-mesh BVHs in
 //! object space); [`pose`] is how an instance's pose depends on time; [`swept`] its bounds over
-//! a shutter interval. See `docs/geometry.md`.
+//! a shutter interval; [`chain`] the per-ray form of a spinning pose. See `docs/geometry.md`.
 
+pub mod chain;
 pub mod pose;
 pub mod swept;
 pub mod world;
