@@ -12,6 +12,7 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use renderer::manifest::Manifest;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -66,7 +67,7 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
     let t0 = Instant::now();
 
     eprintln!("[1/4] rendering stimuli ({JOB})");
-    let (stimuli, frames_rendered, frames_reused) = render(&root, !args.no_progress)?;
+    let (stimuli, manifest, frames_rendered, frames_reused) = render(&root, !args.no_progress)?;
     let t_render = t0.elapsed().as_secs_f64();
 
     eprintln!("[2/4] checking the stimuli against the design ({DESIGN})");
@@ -94,6 +95,7 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
     let jnd_summary = analysis_report.summary();
     let summary = out.join("summary.md");
     let text = crate::summary::markdown(&crate::summary::Inputs {
+        manifest: &manifest,
         stimuli: &stimuli,
         report: &report,
         convergence: &convergence,
@@ -139,9 +141,9 @@ fn resolve_root(given: Option<&Path>) -> Result<PathBuf> {
     )
 }
 
-/// Render (or finish rendering) the demo job; returns its stimulus folder and the frames
-/// rendered and reused.
-fn render(root: &Path, progress: bool) -> Result<(PathBuf, u64, u64)> {
+/// Render (or finish rendering) the demo job; returns its stimulus folder, its manifest and the
+/// frames rendered and reused.
+fn render(root: &Path, progress: bool) -> Result<(PathBuf, Manifest, u64, u64)> {
     let job = renderer::job::Job::load(&root.join(JOB))?;
     let mut opts = renderer::job::RunOptions::new(root.join("stimuli"));
     opts.progress = progress;
@@ -150,14 +152,19 @@ fn render(root: &Path, progress: bool) -> Result<(PathBuf, u64, u64)> {
         "      {} frames rendered, {} reused from an earlier run",
         done.frames_rendered, done.frames_skipped
     );
-    if done.manifest.is_none() {
+    let Some(manifest) = done.manifest else {
         bail!(
             "{}: the stimulus set is incomplete ({} frames missing)",
             done.job_dir.display(),
             done.frames_missing
         );
-    }
-    Ok((done.job_dir, done.frames_rendered, done.frames_skipped))
+    };
+    Ok((
+        done.job_dir,
+        manifest,
+        done.frames_rendered,
+        done.frames_skipped,
+    ))
 }
 
 /// Remove earlier simulated logs so that a changed subject count leaves no stale subject.

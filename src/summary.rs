@@ -6,13 +6,15 @@
 use analysis::jnd::Threshold;
 use analysis::summary::Summary;
 use anyhow::Result;
-use renderer::convergence::{Row, log_log_slope, rows};
+use renderer::convergence::{Row, rows, slopes};
 use renderer::manifest::Manifest;
 use std::fmt::Write as _;
 use std::path::Path;
 
 /// What the summary is made of.
 pub struct Inputs<'a> {
+    /// The stimulus set's manifest, as the render returned it, and its folder.
+    pub manifest: &'a Manifest,
     pub stimuli: &'a Path,
     pub report: &'a Path,
     pub convergence: &'a Path,
@@ -23,8 +25,8 @@ pub struct Inputs<'a> {
 
 /// The summary as Markdown.
 pub fn markdown(inp: &Inputs) -> Result<String> {
-    let manifest = Manifest::load(inp.stimuli)?;
-    let rows = rows(&manifest);
+    let manifest = inp.manifest;
+    let rows = rows(manifest);
     let mut s = String::new();
     writeln!(s, "# Study summary: {}\n", manifest.job)?;
     writeln!(
@@ -57,10 +59,7 @@ fn jnd_table(s: &mut String, jnd: &Summary) -> Result<()> {
     )?;
     writeln!(s, "|---|---|---|---|---|---|")?;
     for r in &jnd.rows {
-        let ci = match (&r.ci_lower, &r.ci_upper) {
-            (Some(l), Some(u)) => format!("{} to {}", l.display(), u.display()),
-            _ => "none".into(),
-        };
+        let ci = r.interval(" to ").unwrap_or_else(|| "none".into());
         writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} |",
@@ -157,39 +156,30 @@ fn speed_table(s: &mut String, rows: &[Row]) -> Result<()> {
          slope is the least-squares slope of log RMSE against log spp (-0.5 is plain Monte \
          Carlo).\n"
     )?;
-    let mut groups: Vec<(&str, &str, &str)> = rows
-        .iter()
-        .map(|r| {
-            (
-                r.scene.as_str(),
-                r.point_set.as_str(),
-                r.time_filter.as_str(),
-            )
-        })
-        .collect();
-    groups.sort_unstable();
-    groups.dedup();
     writeln!(
         s,
         "| scene | point set | time filter | spp | seconds | RMSE | rel. MSE | PSNR (dB) | FLIP |"
     )?;
     writeln!(s, "|---|---|---|---|---|---|---|---|---|")?;
-    for &(scene, ps, tf) in &groups {
-        let mut g: Vec<&Row> = rows
+    // `rows` is sorted by group and spp, `slopes` lists the groups in the same order.
+    for g in slopes(rows) {
+        let (scene, ps, tf) = (&g.scene, &g.point_set, &g.time_filter);
+        for r in rows
             .iter()
-            .filter(|r| r.scene == scene && r.point_set == ps && r.time_filter == tf)
-            .collect();
-        g.sort_by_key(|r| r.spp);
-        for r in &g {
+            .filter(|r| (&r.scene, &r.point_set, &r.time_filter) == (scene, ps, tf))
+        {
             writeln!(
                 s,
                 "| {scene} | {ps} | {tf} | {} | {:.2} | {:.4} | {:.4} | {:.1} | {:.4} |",
                 r.spp, r.render_seconds, r.rmse, r.rel_mse, r.psnr, r.flip
             )?;
         }
-        let pts: Vec<(f64, f64)> = g.iter().map(|r| (r.spp as f64, r.rmse)).collect();
-        if let Some(slope) = log_log_slope(&pts) {
-            writeln!(s, "| {scene} | {ps} | {tf} | slope | | {slope:.2} | | | |")?;
+        if g.rmse_vs_spp.is_finite() {
+            writeln!(
+                s,
+                "| {scene} | {ps} | {tf} | slope | | {:.2} | | | |",
+                g.rmse_vs_spp
+            )?;
         }
     }
     Ok(())

@@ -45,6 +45,14 @@ pub enum Bound {
     },
 }
 
+/// An interval as text, its ends joined by `join`; `None` unless both ends exist.
+pub fn interval_text(lower: &Option<Bound>, upper: &Option<Bound>, join: &str) -> Option<String> {
+    match (lower, upper) {
+        (Some(l), Some(u)) => Some(format!("{}{join}{}", l.display(), u.display())),
+        _ => None,
+    }
+}
+
 impl Bound {
     pub fn display(&self) -> String {
         match self {

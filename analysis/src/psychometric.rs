@@ -63,11 +63,6 @@ pub struct Model {
 }
 
 impl Model {
-    /// (ln p, ln (1 - p)) at x = ln spp, both finite.
-    pub fn ln_p_pair(&self, x: f64) -> (f64, f64) {
-        self.ln_p_pair_of(&self.sigmoid.eval(self.beta * (self.alpha - x)))
-    }
-
     /// (ln p, ln (1 - p)) from the sigmoid's value.
     fn ln_p_pair_of(&self, v: &SigmoidValue) -> (f64, f64) {
         if self.lapse == 0.0 {

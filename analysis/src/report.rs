@@ -2,7 +2,7 @@
 //! one row per fit or test), `report.json` (the same rows, format `blurlab-report/1`) and
 //! `report.md` tying tables and figures together with the methods stated.
 
-use crate::bootstrap::{BootstrapResult, BootstrapSettings, Bound, bootstrap};
+use crate::bootstrap::{BootstrapResult, BootstrapSettings, Bound, bootstrap, interval_text};
 use crate::comparisons::{Comparison, ComparisonSettings, compare};
 use crate::data::{Dataset, Group, GroupKey, Grouping};
 use crate::jnd::{Threshold, empirical_threshold, model_threshold};
@@ -244,10 +244,7 @@ fn threshold_cols(t: &Threshold) -> (Option<f64>, Option<u32>, Option<u32>) {
 }
 
 fn ci_text(b: &BootstrapResult) -> String {
-    match (&b.ci_lower, &b.ci_upper) {
-        (Some(l), Some(u)) => format!("[{}, {}]", l.display(), u.display()),
-        _ => "none".into(),
-    }
+    interval_text(&b.ci_lower, &b.ci_upper, ", ").map_or("none".into(), |i| format!("[{i}]"))
 }
 
 impl Report {

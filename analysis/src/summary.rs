@@ -2,7 +2,7 @@
 //! and the thesis-style empirical crossing) and how many t-tests came out significant. The
 //! umbrella `demo` command prints it after an analysis; `analyze` prints it too.
 
-use crate::bootstrap::Bound;
+use crate::bootstrap::{Bound, interval_text};
 use crate::data::Grouping;
 use crate::jnd::Threshold;
 use crate::report::Report;
@@ -22,6 +22,13 @@ pub struct SummaryRow {
     pub empirical: Threshold,
     /// The deviance's bootstrap p-value was below the poor-fit level.
     pub poor_fit: bool,
+}
+
+impl SummaryRow {
+    /// The interval as text, its ends joined by `join`; `None` without an interval.
+    pub fn interval(&self, join: &str) -> Option<String> {
+        interval_text(&self.ci_lower, &self.ci_upper, join)
+    }
 }
 
 /// The summary of a [`Report`].
@@ -81,10 +88,9 @@ impl fmt::Display for Summary {
         )?;
         let width = self.rows.iter().map(|r| r.label.len()).max().unwrap_or(0);
         for r in &self.rows {
-            let ci = match (&r.ci_lower, &r.ci_upper) {
-                (Some(l), Some(u)) => format!("[{}, {}]", l.display(), u.display()),
-                _ => "no interval".into(),
-            };
+            let ci = r
+                .interval(", ")
+                .map_or("no interval".into(), |i| format!("[{i}]"));
             writeln!(
                 f,
                 "  {:<11} {:<width$}  {:>9}  {:<16} empirical {}{}",

@@ -58,7 +58,7 @@ struct Spin {
 fn rest_linear(l: &MotionLayer) -> (Mat3A, Mat3A) {
     let q = Mat3A::from_quat(l.rotation);
     (
-        q * Mat3A::from_diagonal(l.scale),
+        l.linear_at_rest(),
         Mat3A::from_diagonal(l.scale.recip()) * q.transpose(),
     )
 }

@@ -102,11 +102,6 @@ impl World {
         &self.instances
     }
 
-    /// The shutter interval the top level was built for.
-    pub fn shutter(&self) -> (f32, f32) {
-        self.shutter
-    }
-
     /// Whether no instance moves (every pose was computed once at build).
     pub fn is_static(&self) -> bool {
         self.poses.iter().all(PoseOverTime::is_fixed)

@@ -165,25 +165,6 @@ pub fn intersect(ray: &Ray, a: Vec3A, b: Vec3A, c: Vec3A) -> Option<f32> {
     WatertightRay::new(ray).intersect_t(a, b, c, ray.t_min, ray.t_max)
 }
 
-/// Barycentric coordinates `(1 - u - v, u, v)` of point `p` in triangle `(a, b, c)`.
-pub fn barycentric(p: Vec3A, a: Vec3A, b: Vec3A, c: Vec3A) -> (f32, f32, f32) {
-    let v0 = b - a;
-    let v1 = c - a;
-    let v2 = p - a;
-    let d00 = v0.dot(v0);
-    let d01 = v0.dot(v1);
-    let d11 = v1.dot(v1);
-    let d20 = v2.dot(v0);
-    let d21 = v2.dot(v1);
-    let denom = d00 * d11 - d01 * d01;
-    if denom == 0.0 || !denom.is_finite() {
-        return (1.0, 0.0, 0.0);
-    }
-    let v = (d11 * d20 - d01 * d21) / denom;
-    let w = (d00 * d21 - d01 * d20) / denom;
-    (1.0 - v - w, v, w)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

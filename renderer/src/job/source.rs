@@ -105,8 +105,9 @@ impl FrameSource for SyntheticSource {
         for y in 0..h {
             for x in 0..w {
                 let mut sum = [0f32; 3];
+                let pixel = sampler.pixel(x, y);
                 for i in 0..sampler.spp() {
-                    let s = sampler.sample(x, y, i);
+                    let s = pixel.sample(i);
                     let shift = self.speed * (frame as f32 + s.t);
                     let r = self.radiance(x as f32 + 0.5 + s.dx - shift, y as f32 + 0.5 + s.dy);
                     for c in 0..3 {

@@ -87,11 +87,6 @@ impl FrameSampler {
         &self.points
     }
 
-    /// The time filter in use.
-    pub fn time_filter(&self) -> TimeFilter {
-        self.time
-    }
-
     /// Pixel (x, y): hash its shift once, then ask it for each sample (cheaper than
     /// [`FrameSampler::sample`] per sample).
     #[inline]

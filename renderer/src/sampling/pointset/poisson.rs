@@ -7,7 +7,6 @@
 //! Cranley-Patterson shift, which wraps coordinates, the points keep their spacing.
 
 use super::{PointSet, Points};
-use crate::hash;
 use crate::sampling::spacing::{max_packing_distance, toroidal_distance};
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -50,9 +49,8 @@ impl Poisson {
     /// `n` points in `dims` dimensions from `5n` candidates keyed by `seed`.
     pub fn eliminate(n: usize, dims: usize, seed: u64) -> PoissonSet {
         let m = n * CANDIDATES_PER_POINT;
-        let cand = Points::from_fn(m, dims, |i, d| {
-            hash::unit_f64(hash::hash(seed, &[i as u64, d as u64]))
-        });
+        // Candidates: the independent random set of m points under the same seed.
+        let cand = super::Random.generate(m, dims, seed);
         let d_max = max_packing_distance(dims, n);
         let d_min = d_max * BETA * (1.0 - (n as f64 / m as f64).powf(GAMMA));
         let weight = |d: f64| (1.0 - d.max(d_min) / d_max).powi(ALPHA);
@@ -217,6 +215,7 @@ impl Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::hash;
     use crate::sampling::spacing::min_toroidal_distance;
 
     #[test]
