@@ -7,10 +7,11 @@
 //! another folder, so that they still name the same files.
 
 use crate::job::{JobFile, line_format};
+use crate::paths::{lexical_normal as normal, relative};
 use crate::scene::{SceneFile, block_format};
 use anyhow::{Context, Result, bail};
 use serde::Serialize;
-use std::path::{Component, Path, PathBuf};
+use std::path::Path;
 
 /// What a file holds.
 #[derive(Clone, Debug, PartialEq)]
@@ -139,38 +140,6 @@ pub fn rebase_paths(doc: &mut Document, from: &Path, to: &Path) -> Result<()> {
     Ok(())
 }
 
-/// `a/./b/../c` -> `a/c`, lexically.
-fn normal(p: &Path) -> PathBuf {
-    let mut out = PathBuf::new();
-    for c in p.components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir
-                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
-            {
-                out.pop();
-            }
-            other => out.push(other),
-        }
-    }
-    out
-}
-
-/// `target` relative to the folder `base` (both absolute and normal).
-fn relative(target: &Path, base: &Path) -> PathBuf {
-    let t: Vec<Component> = target.components().collect();
-    let b: Vec<Component> = base.components().collect();
-    let common = t.iter().zip(&b).take_while(|(x, y)| x == y).count();
-    let mut out = PathBuf::new();
-    for _ in common..b.len() {
-        out.push("..");
-    }
-    for c in &t[common..] {
-        out.push(c);
-    }
-    out
-}
-
 /// Pretty JSON with arrays of numbers and strings on one line (`"location": [0, 0, 420]`),
 /// ending in a newline. Serialized from the model directly, so f32 values keep their shortest
 /// form (`0.3`, not `0.30000001192092896`).
@@ -232,10 +201,6 @@ mod tests {
 
     #[test]
     fn relative_paths_follow_the_output_folder() {
-        let r = |t: &str, b: &str| relative(Path::new(t), Path::new(b));
-        assert_eq!(r("/a/b/m.obj", "/a/c"), Path::new("../b/m.obj"));
-        assert_eq!(r("/a/b/m.obj", "/a"), Path::new("b/m.obj"));
-        assert_eq!(normal(Path::new("/a/./b/../c")), Path::new("/a/c"));
         let mut doc = Document::Job(JobFile {
             format: crate::job::JOB_FORMAT.into(),
             name: "j".into(),

@@ -18,6 +18,7 @@ pub mod manifest;
 pub mod material;
 pub mod metrics;
 pub mod motion;
+pub mod paths;
 pub mod procedural;
 pub mod render;
 pub mod sampling;

@@ -3,6 +3,8 @@
 //! with small stand-ins for its model and map, the Figure 12 job through `render job` with the
 //! highest level as each condition's reference), and convert to JSON and back without loss.
 
+mod support;
+
 use proptest::prelude::*;
 use renderer::convert::{self, Document};
 use renderer::job::line_format;
@@ -19,9 +21,7 @@ use renderer::scene::file::{
 };
 use renderer::scene::{SCENE_FORMAT, Scene};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-const RENDER: &str = env!("CARGO_BIN_EXE_render");
+use support::{render as run, s};
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -216,20 +216,6 @@ fn figure_13_renders_with_stand_ins_at_the_paths_it_names() {
             "frame {frame}: the sky's gradient shows ({lo}..{hi})"
         );
     }
-}
-
-fn run(args: &[&str]) -> String {
-    let out = Command::new(RENDER).args(args).output().unwrap();
-    assert!(
-        out.status.success(),
-        "render {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 #[test]
