@@ -65,8 +65,9 @@ pub fn read(path: &Path) -> Result<Document> {
                         .with_context(|| format!("{}: not a valid job file", path.display()))?,
                 ),
                 other => bail!(
-                    "{}: field `format` is {other:?}; expected {:?} or {:?}",
+                    "{}: field `format` {}; expected {:?} or {:?}",
                     path.display(),
+                    other.map_or("is missing".into(), |f| format!("is {f:?}")),
                     crate::scene::SCENE_FORMAT,
                     crate::job::JOB_FORMAT
                 ),

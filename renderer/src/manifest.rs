@@ -225,6 +225,31 @@ mod tests {
     }
 
     #[test]
+    fn references_are_found_by_id_and_old_manifests_fall_back_to_the_scene_reference() {
+        let mut m = sample();
+        let mut reference = m.stimuli[0].clone();
+        reference.id = "plane-reference".into();
+        reference.reference = true;
+        reference.reference_id = None;
+        m.stimuli.push(reference);
+        let test = m.stimuli[0].clone();
+        assert_eq!(m.reference_of(&test).unwrap().id, "plane-reference");
+        // Written before `reference_id` existed: the scene's reference.
+        let mut old = test.clone();
+        old.reference_id = None;
+        let text = serde_json::to_string(&old).unwrap();
+        assert!(!text.contains("reference_id"));
+        assert_eq!(m.reference_of(&old).unwrap().id, "plane-reference");
+        assert_eq!(m.reference_of(&m.stimuli[1]), None);
+        // Its own reference.
+        let mut top = test;
+        top.reference_id = Some(top.id.clone());
+        assert!(top.own_reference());
+        m.stimuli[0] = top.clone();
+        assert_eq!(m.reference_of(&top).unwrap().id, top.id);
+    }
+
+    #[test]
     fn refuses_unknown_version_naming_the_field() {
         let dir = tempfile::tempdir().unwrap();
         let mut m = sample();

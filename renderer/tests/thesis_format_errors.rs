@@ -474,3 +474,48 @@ fn job_checks_after_reading_name_the_line() {
         assert!(e.starts_with(want), "\n{e}\nwanted\n{want}");
     }
 }
+
+/// `render convert` refuses what it cannot do, naming the file and what was expected.
+#[test]
+fn conversion_errors_name_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let job = d.join("j.job");
+    std::fs::write(&job, figure12()).unwrap();
+    let strip = |e: anyhow::Error| format!("{e:#}").replace(&format!("{}/", d.display()), "");
+    let e = strip(renderer::convert::convert(&job, &d.join("j.scene")).unwrap_err());
+    assert_eq!(
+        e,
+        "j.scene: a job cannot be written as a scene (.scene); write .job or .json"
+    );
+    let e = strip(renderer::convert::convert(&job, &d.join("j.yaml")).unwrap_err());
+    assert_eq!(
+        e,
+        "j.yaml: expected a file ending in .json, .scene (thesis Figure 13) or .job (thesis \
+         Figure 12)"
+    );
+    let json = d.join("x.json");
+    std::fs::write(&json, r#"{"format": "blurlab-design/1"}"#).unwrap();
+    let e = strip(renderer::convert::convert(&json, &d.join("x.job")).unwrap_err());
+    assert_eq!(
+        e,
+        "x.json: field `format` is \"blurlab-design/1\"; expected \"blurlab-scene/1\" or \
+         \"blurlab-job/1\""
+    );
+    // A JSON name the text would read as another name.
+    let (mut file, _) = line_format::read(&figure12(), &job).unwrap();
+    file.point_sets[1] = "stratifiedmc".into();
+    let e = format!("{:#}", line_format::write(&file).unwrap_err());
+    assert_eq!(
+        e,
+        "field `point_sets[1]` is \"stratifiedmc\", which the text format reads as another \
+         name; expected a name the sampler knows"
+    );
+    file.point_sets.clear();
+    let e = format!("{:#}", line_format::write(&file).unwrap_err());
+    assert_eq!(e, "field `point_sets` is empty; a job lists at least one");
+    assert!(
+        !d.join("j.scene").exists() && !d.join("x.job").exists(),
+        "no file written"
+    );
+}

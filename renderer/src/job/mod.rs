@@ -499,6 +499,28 @@ mod tests {
     }
 
     #[test]
+    fn the_reference_is_the_highest_level_or_an_independent_render() {
+        let text = job_text().replace("{\"spp\": 64}", "\"highest_level\"");
+        let (_d, p) = setup(&text);
+        let job = Job::load(&p).unwrap();
+        assert_eq!(job.reference, Reference::HighestLevel);
+        assert_eq!(job.heaviest_sampling().spp, 27);
+        let file: JobFile = serde_json::from_str(&text).unwrap();
+        assert!(
+            serde_json::to_string(&file)
+                .unwrap()
+                .contains("\"reference\":\"highest_level\"")
+        );
+        let e = error_of(&job_text().replace("{\"spp\": 64}", "\"highest\""));
+        assert!(
+            e.contains("found \"highest\"; expected \"highest_level\" or an independent reference"),
+            "{e}"
+        );
+        let e = error_of(&job_text().replace("{\"spp\": 64}", "{\"sp\": 64}"));
+        assert!(e.contains("unknown field `sp`"), "{e}");
+    }
+
+    #[test]
     fn unknown_fields_and_missing_fields_are_reported() {
         let e = error_of(&job_text().replace("\"seed\": 7", "\"sed\": 7"));
         assert!(e.contains("job.json") && e.contains("sed"), "{e}");
