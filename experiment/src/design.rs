@@ -6,6 +6,7 @@
 
 use crate::keys::{self, RESERVED_KEYS};
 use anyhow::{Context, Result, bail};
+use renderer::paths::lexical_normal;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -26,7 +27,7 @@ pub struct DesignFile {
     pub factors: Factors,
     /// Samples per pixel of the test videos.
     pub levels: Vec<u32>,
-    /// Which video every pair compares against.
+    /// Which video every test video is compared against (per scene, or per condition).
     #[serde(default)]
     pub reference: ReferenceChoice,
     /// Trials per condition x level (the thesis: 4).
@@ -58,13 +59,18 @@ pub struct Factors {
     pub time_filters: Vec<String>,
 }
 
-/// The reference video of each scene.
+/// The reference video each test video is shown beside.
 #[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 #[serde(rename_all = "snake_case")]
 pub enum ReferenceChoice {
-    /// The manifest's reference of the scene (id `<scene>-reference`).
+    /// The manifest's independent reference of the scene (id `<scene>-reference`).
     #[default]
     SceneReference,
+    /// The highest of `levels` of the same scene, point set and time filter: the thesis's
+    /// ground truth ("rendered at the highest sampling density (512 samples per pixel)"), for
+    /// stimuli rendered with the job reference `highest_level`. The highest level's trials then
+    /// show two identical pairs (chance by construction).
+    HighestLevel,
     /// An explicit stimulus id per scene.
     Stimuli(BTreeMap<String, String>),
 }
@@ -230,10 +236,14 @@ impl Design {
         }
     }
 
-    /// The reference stimulus id of a scene.
-    pub fn reference_id(&self, scene: &str) -> String {
+    /// The reference stimulus id of a condition (scene, point set, time filter).
+    pub fn reference_id(&self, scene: &str, point_set: &str, time_filter: &str) -> String {
         match &self.file.reference {
             ReferenceChoice::SceneReference => renderer::job::expand::reference_id(scene),
+            ReferenceChoice::HighestLevel => {
+                let top = self.file.levels.iter().copied().max().unwrap_or(0);
+                renderer::job::expand::stimulus_id(scene, point_set, time_filter, top)
+            }
             ReferenceChoice::Stimuli(m) => m[scene].clone(),
         }
     }
@@ -275,25 +285,6 @@ impl Design {
             keys::describe(&k.pair2),
         )
     }
-}
-
-/// `a/b/../c` -> `a/c` without touching the file system (for readable messages; a leading
-/// `..` is kept).
-fn lexical_normal(path: &Path) -> PathBuf {
-    use std::path::Component;
-    let mut out = PathBuf::new();
-    for c in path.components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir
-                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
-            {
-                out.pop();
-            }
-            other => out.push(other),
-        }
-    }
-    out
 }
 
 /// SHA-256 of the canonical form: serde_json's map is sorted by key, and `to_string` is compact,
@@ -452,7 +443,7 @@ pub(crate) mod tests {
         assert_eq!(d.file.playback, Playback::default());
         assert_eq!(d.practice_levels(), vec![1]);
         assert_eq!(d.main_trial_count(), 2 * 2 * 3 * 3);
-        assert_eq!(d.reference_id("plane"), "plane-reference");
+        assert_eq!(d.reference_id("plane", "poisson", "box"), "plane-reference");
         assert_ne!(d.subject_seed("a"), d.subject_seed("b"));
     }
 
@@ -536,9 +527,26 @@ pub(crate) mod tests {
             v["seed"] = serde_json::json!({"master": 9, "scheme": "shared"});
         });
         let d = Design::parse(Path::new("d.json"), &text).unwrap();
-        assert_eq!(d.reference_id("spheres"), "spheres-y");
+        assert_eq!(d.reference_id("spheres", "hammersley", "box"), "spheres-y");
         assert_eq!(d.subject_seed("a"), 9);
         assert_eq!(d.subject_seed("b"), 9);
+    }
+
+    #[test]
+    fn the_highest_level_is_each_conditions_reference() {
+        let d = Design::parse(
+            Path::new("d.json"),
+            &edit(|v| v["reference"] = "highest_level".into()),
+        )
+        .unwrap();
+        assert_eq!(
+            d.reference_id("plane", "poisson", "box"),
+            "plane-poisson-box-0027"
+        );
+        assert_eq!(
+            d.reference_id("spheres", "hammersley", "box"),
+            "spheres-hammersley-box-0027"
+        );
     }
 
     #[test]

@@ -56,6 +56,16 @@ pub struct Study {
 
 /// Render the spec's stimuli under `root/stimuli/<name>/` and write `root/design.json`.
 pub fn write_study(root: &Path, spec: &StudySpec) -> Result<Study> {
+    write_study_with_reference(root, spec, json!({"spp": spec.reference_spp}))
+}
+
+/// [`write_study`] with the job's `reference` given (e.g. `"highest_level"`; the spec's
+/// `reference_spp` is then unused, and the design's `reference` comes from `spec.design`).
+pub fn write_study_with_reference(
+    root: &Path,
+    spec: &StudySpec,
+    reference: serde_json::Value,
+) -> Result<Study> {
     let scenes_dir = root.join("scenes");
     std::fs::create_dir_all(&scenes_dir)?;
     for (i, scene) in spec.scenes.iter().enumerate() {
@@ -74,7 +84,7 @@ pub fn write_study(root: &Path, spec: &StudySpec) -> Result<Study> {
         "levels": spec.levels,
         "point_sets": spec.point_sets,
         "time_filters": spec.time_filters,
-        "reference": {"spp": spec.reference_spp},
+        "reference": reference,
         "seed": 5,
     });
     std::fs::write(&job_path, job.to_string())?;

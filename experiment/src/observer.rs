@@ -136,9 +136,10 @@ impl Observer {
         0.5 + (0.5 - lapse) * logistic(z)
     }
 
-    /// The simulated subject's answer (pair 1 or 2), a pure function of the subject and the
-    /// trial's place in the list.
-    pub fn respond(&self, trial: &Trial, subject: &str) -> Result<u8> {
+    /// Probability that the subject answers `trial` correctly: the condition's function at
+    /// the trial's level, or exactly 1/2 when test and reference are the same video (the
+    /// highest level under a `highest_level` reference: there is nothing to see).
+    pub fn p_trial(&self, trial: &Trial, subject: &str) -> Result<f64> {
         let Some(t) = self.subject_threshold(&trial.condition, subject) else {
             bail!(
                 "{}: no threshold rule covers scene {:?}, point set {:?}, time filter {:?}",
@@ -148,7 +149,16 @@ impl Observer {
                 trial.condition.time_filter
             );
         };
-        let p = self.p_correct(t, trial.level as f64);
+        if trial.test_stimulus == trial.reference_stimulus {
+            return Ok(0.5);
+        }
+        Ok(self.p_correct(t, trial.level as f64))
+    }
+
+    /// The simulated subject's answer (pair 1 or 2), a pure function of the subject and the
+    /// trial's place in the list.
+    pub fn respond(&self, trial: &Trial, subject: &str) -> Result<u8> {
+        let p = self.p_trial(trial, subject)?;
         let u = unit_f64(hash(
             self.file.seed,
             &[name_id(subject), trial.practice as u64, trial.index as u64],

@@ -79,20 +79,22 @@ impl PreflightReport {
     }
 }
 
-/// Every stimulus the design shows (practice levels are among the design's levels).
+/// Every stimulus the design shows (practice levels are among the design's levels). A
+/// condition's highest level that is its own reference (`highest_level`) is checked as a test
+/// stimulus.
 pub fn needed_stimuli(design: &Design) -> Vec<Needed> {
     let mut out: BTreeMap<String, Needed> = BTreeMap::new();
-    let explicit = matches!(
+    let scene_reference = matches!(
         design.file.reference,
-        crate::design::ReferenceChoice::Stimuli(_)
+        crate::design::ReferenceChoice::SceneReference
     );
     for c in conditions(design) {
-        let reference_id = design.reference_id(&c.scene);
+        let reference_id = design.reference_id(&c.scene, &c.point_set, &c.time_filter);
         out.entry(reference_id.clone()).or_insert(Needed {
             id: reference_id.clone(),
             scene: c.scene.clone(),
             test: None,
-            must_be_reference: !explicit,
+            must_be_reference: scene_reference,
             reference_id: None,
         });
         for &level in &design.file.levels {

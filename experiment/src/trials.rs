@@ -130,7 +130,11 @@ fn make_trial(design: &Design, condition: &Condition, level: u32, combo: (u8, Si
             &condition.time_filter,
             level,
         ),
-        reference_stimulus: design.reference_id(&condition.scene),
+        reference_stimulus: design.reference_id(
+            &condition.scene,
+            &condition.point_set,
+            &condition.time_filter,
+        ),
         condition: condition.clone(),
         level,
         diff_pair: combo.0,

@@ -3,7 +3,7 @@
 //! rendered are each reported, all at once, naming the stimulus and the file.
 
 use experiment::Design;
-use experiment::fixture::{StudySpec, write_study};
+use experiment::fixture::{StudySpec, write_study, write_study_with_reference};
 use experiment::preflight::{PreflightOptions, needed_stimuli, preflight};
 use std::path::Path;
 
@@ -29,6 +29,39 @@ fn clean_stimuli_pass_and_every_needed_video_is_checked() {
     assert_eq!(report.frames_checked, 10 * 6);
     assert!(report.bytes_hashed > 0);
     report.into_result().unwrap();
+}
+
+/// The thesis's ground truth: stimuli rendered with the job reference `highest_level` and a
+/// design comparing each condition against its highest level. Preflight checks the highest
+/// level once, as a test stimulus; its trials show the same video in all four places; the
+/// manifest measured every other level against the same video the design shows beside it.
+#[test]
+fn highest_level_references_pass_preflight_and_show_identical_pairs_at_the_top() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = StudySpec {
+        design: serde_json::json!({"repeats": 2, "reference": "highest_level"}),
+        ..StudySpec::tiny()
+    };
+    let study =
+        write_study_with_reference(dir.path(), &spec, serde_json::json!("highest_level")).unwrap();
+    let design = Design::load(&study.design_path).unwrap();
+    let report = preflight(&design, FULL);
+    assert!(report.problems.is_empty(), "{:?}", report.problems);
+    // 2 scenes x 2 point sets x 2 levels, no separate reference.
+    assert_eq!(needed_stimuli(&design).len(), 8);
+    let manifest = report.into_result().unwrap();
+    assert!(manifest.stimuli.iter().all(|s| !s.reference));
+    let plan = experiment::trials::plan(&design, "s01");
+    for t in &plan.main {
+        let test = manifest.get(&t.test_stimulus).unwrap();
+        assert_eq!(
+            test.reference_id.as_deref(),
+            Some(t.reference_stimulus.as_str())
+        );
+        let same = t.test_stimulus == t.reference_stimulus;
+        assert_eq!(same, t.level == 8, "{}", t.test_stimulus);
+        assert_eq!(test.error.is_none(), same, "{}", t.test_stimulus);
+    }
 }
 
 #[test]

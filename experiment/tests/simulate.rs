@@ -41,10 +41,11 @@ fn twelve_thesis_subjects_follow_the_observer_and_rerun_identically() {
             let e = correct_at
                 .entry((t.condition.scene.clone(), t.level))
                 .or_default();
-            let th = observer.subject_threshold(&t.condition, &subject).unwrap();
             e.0 += r.correct as u32;
             e.1 += 1;
-            e.2 += observer.p_correct(th, t.level as f64);
+            e.2 += observer.p_trial(t, &subject).unwrap();
+            // The thesis's ground truth: the 512-spp trial compares a video with itself.
+            assert_eq!(t.test_stimulus == t.reference_stimulus, t.level == 512);
         }
     }
     // Per scene x level: 12 subjects x 3 point sets x 4 repeats = 144 answers; the observed
@@ -63,6 +64,11 @@ fn twelve_thesis_subjects_follow_the_observer_and_rerun_identically() {
     let plane_512 = correct_at[&("plane".to_string(), 512)];
     assert!(plane_1.0 as f64 / 144.0 > 0.9);
     assert!((plane_512.0 as f64 / 144.0) < 0.7);
+    assert_eq!(
+        plane_512.2 / 144.0,
+        0.5,
+        "chance by construction at the highest level"
+    );
 
     let again = simulate(&design, &observer, 12, dir.path()).unwrap();
     for (p, bytes) in again.iter().zip(&first) {

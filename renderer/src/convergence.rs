@@ -3,6 +3,11 @@
 //! convergence slope of each scene x point set x time filter by least squares in log-log
 //! (`convergence_slopes.csv`), and draws log-log plots of RMSE against spp and against seconds,
 //! one per scene, as SVG and PNG.
+//!
+//! A stimulus that is its own reference (the highest level when the job's reference is
+//! `highest_level`) has zero error by construction: `convergence.csv` lists it with
+//! `own_reference = true`, zero errors and the capped PSNR, and neither the slopes nor the plots
+//! use it (a log-log fit through a zero would be meaningless).
 
 use crate::manifest::{Manifest, Stimulus};
 use anyhow::{Context, Result, anyhow};
@@ -26,6 +31,10 @@ pub struct Row {
     pub rel_mse: f64,
     pub psnr: f64,
     pub flip: f64,
+    /// The stimulus the error is measured against.
+    pub reference_id: String,
+    /// The stimulus is its own reference: zero error by construction, not measured.
+    pub own_reference: bool,
 }
 
 /// The fitted convergence of one group.
@@ -73,28 +82,50 @@ pub fn log_log_slope(points: &[(f64, f64)]) -> Option<f64> {
     (sxx > 1e-12 * n).then(|| sxy / sxx)
 }
 
-/// The rows of a manifest: every non-reference stimulus with an error, sorted by group and spp.
+/// The rows of a manifest: every non-reference stimulus with a measured error, sorted by group
+/// and spp.
 pub fn rows(m: &Manifest) -> Vec<Row> {
-    let mut rows: Vec<Row> = m
-        .stimuli
-        .iter()
-        .filter(|s| !s.reference)
-        .filter_map(|s: &Stimulus| {
-            let e = s.error.as_ref()?;
-            Some(Row {
-                scene: s.scene.clone(),
-                point_set: s.point_set.clone(),
-                time_filter: s.time_filter.clone(),
-                spp: s.spp,
-                id: s.id.clone(),
-                render_seconds: s.render_seconds,
-                rmse: e.rmse,
-                rel_mse: e.rel_mse,
-                psnr: e.psnr,
-                flip: e.flip,
+    sorted(
+        m.stimuli
+            .iter()
+            .filter(|s| !s.reference)
+            .filter_map(|s: &Stimulus| {
+                let e = s.error.as_ref()?;
+                Some(row(m, s, e.rmse, e.rel_mse, e.psnr, e.flip))
             })
-        })
-        .collect();
+            .collect(),
+    )
+}
+
+/// The stimuli that are their own reference, as rows of zero error (PSNR at its cap).
+pub fn own_reference_rows(m: &Manifest) -> Vec<Row> {
+    sorted(
+        m.stimuli
+            .iter()
+            .filter(|s| s.own_reference())
+            .map(|s| row(m, s, 0.0, 0.0, crate::metrics::PSNR_CAP_DB, 0.0))
+            .collect(),
+    )
+}
+
+fn row(m: &Manifest, s: &Stimulus, rmse: f64, rel_mse: f64, psnr: f64, flip: f64) -> Row {
+    Row {
+        scene: s.scene.clone(),
+        point_set: s.point_set.clone(),
+        time_filter: s.time_filter.clone(),
+        spp: s.spp,
+        id: s.id.clone(),
+        render_seconds: s.render_seconds,
+        rmse,
+        rel_mse,
+        psnr,
+        flip,
+        reference_id: m.reference_of(s).map(|r| r.id.clone()).unwrap_or_default(),
+        own_reference: s.own_reference(),
+    }
+}
+
+fn sorted(mut rows: Vec<Row>) -> Vec<Row> {
     rows.sort_by(|a, b| {
         (&a.scene, &a.point_set, &a.time_filter, a.spp).cmp(&(
             &b.scene,
@@ -160,7 +191,9 @@ pub fn write_report(stimuli_dir: &Path, out_dir: &Path) -> Result<ReportFiles> {
         slopes_csv: out_dir.join("convergence_slopes.csv"),
         figures: Vec::new(),
     };
-    write_csv(&files.csv, &rows)?;
+    let mut listed = rows.clone();
+    listed.extend(own_reference_rows(&m));
+    write_csv(&files.csv, &sorted(listed))?;
     write_slopes_csv(&files.slopes_csv, &slopes)?;
     register_font()?;
     let scenes: Vec<String> = {
@@ -451,6 +484,7 @@ mod tests {
                     time_filter: "box".into(),
                     spp,
                     reference: false,
+                    reference_id: Some(format!("plane-{ps}-box-0125")),
                     seed: 1,
                     width: 8,
                     height: 8,
@@ -468,6 +502,15 @@ mod tests {
                     }),
                 });
             }
+            // The highest level as the condition's own reference: listed, not fitted.
+            {
+                let mut top = m.stimuli.last().unwrap().clone();
+                top.id = format!("plane-{ps}-box-0125");
+                top.spp = 125;
+                top.reference_id = Some(top.id.clone());
+                top.error = None;
+                m.stimuli.push(top);
+            }
         }
         m
     }
@@ -479,8 +522,22 @@ mod tests {
         let out = dir.path().join("report");
         let files = write_report(dir.path(), &out).unwrap();
         let csv = std::fs::read_to_string(&files.csv).unwrap();
-        assert_eq!(csv.lines().count(), 1 + 8);
+        assert_eq!(csv.lines().count(), 1 + 10);
         assert!(csv.starts_with("scene,point_set,time_filter,spp,id,render_seconds,rmse"));
+        assert!(
+            csv.lines()
+                .next()
+                .unwrap()
+                .ends_with(",reference_id,own_reference")
+        );
+        let own: Vec<&str> = csv.lines().filter(|l| l.ends_with(",true")).collect();
+        assert_eq!(own.len(), 2, "{csv}");
+        assert!(own[0].starts_with("plane,hammersley,box,125,plane-hammersley-box-0125,"));
+        assert!(
+            own[0].contains(",0.0,0.0,100.0,0.0,plane-hammersley-box-0125,true"),
+            "{}",
+            own[0]
+        );
         let slopes = std::fs::read_to_string(&files.slopes_csv).unwrap();
         assert!(slopes.contains("plane,hammersley,box,4,-0.7500,-0.7500,-1.5000,-0.7500"));
         assert!(slopes.contains("plane,random,box,4,-0.5000,-0.5000,-1.0000,-0.5000"));

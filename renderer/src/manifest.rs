@@ -37,8 +37,15 @@ pub struct Stimulus {
     pub time_filter: String,
     /// Samples per pixel.
     pub spp: u32,
-    /// True for the high-density reference of its scene.
+    /// True for an independent high-density reference of its scene.
     pub reference: bool,
+    /// The stimulus this one's error is measured against: the scene's reference, or the highest
+    /// level of the same point set and time filter (job reference `highest_level`), which is
+    /// then its own reference (`reference_id == id`, zero error by construction, so `error`
+    /// is absent). Absent for independent references, and in manifests written before the
+    /// field existed, whose test stimuli were measured against `<scene>-reference`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_id: Option<String>,
     /// The stimulus's master seed.
     pub seed: u64,
     pub width: u32,
@@ -59,6 +66,14 @@ pub struct Stimulus {
     /// Error against the scene's reference, averaged over frames (absent for references).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<ErrorMetrics>,
+}
+
+impl Stimulus {
+    /// Whether the stimulus is its own reference (the highest level under a `highest_level`
+    /// job reference): its error is zero by construction and not recorded.
+    pub fn own_reference(&self) -> bool {
+        self.reference_id.as_deref() == Some(self.id.as_str())
+    }
 }
 
 /// Error of a stimulus against its reference, averaged over frames.
@@ -114,11 +129,23 @@ impl Manifest {
         self.stimuli.iter().find(|s| s.id == id)
     }
 
-    /// The reference stimulus of a scene.
+    /// The independent reference stimulus of a scene.
     pub fn reference(&self, scene: &str) -> Option<&Stimulus> {
         self.stimuli
             .iter()
             .find(|s| s.reference && s.scene == scene)
+    }
+
+    /// The stimulus `s` is measured against (itself for an own reference); `None` for an
+    /// independent reference.
+    pub fn reference_of(&self, s: &Stimulus) -> Option<&Stimulus> {
+        if s.reference {
+            return None;
+        }
+        match &s.reference_id {
+            Some(id) => self.get(id),
+            None => self.reference(&s.scene),
+        }
     }
 }
 
@@ -169,6 +196,7 @@ mod tests {
             time_filter: "truncated_box".into(),
             spp: 8,
             reference: false,
+            reference_id: Some("plane-reference".into()),
             seed: 1,
             width: 4,
             height: 2,
@@ -194,6 +222,31 @@ mod tests {
         let m = sample();
         m.save(dir.path()).unwrap();
         assert_eq!(Manifest::load(dir.path()).unwrap(), m);
+    }
+
+    #[test]
+    fn references_are_found_by_id_and_old_manifests_fall_back_to_the_scene_reference() {
+        let mut m = sample();
+        let mut reference = m.stimuli[0].clone();
+        reference.id = "plane-reference".into();
+        reference.reference = true;
+        reference.reference_id = None;
+        m.stimuli.push(reference);
+        let test = m.stimuli[0].clone();
+        assert_eq!(m.reference_of(&test).unwrap().id, "plane-reference");
+        // Written before `reference_id` existed: the scene's reference.
+        let mut old = test.clone();
+        old.reference_id = None;
+        let text = serde_json::to_string(&old).unwrap();
+        assert!(!text.contains("reference_id"));
+        assert_eq!(m.reference_of(&old).unwrap().id, "plane-reference");
+        assert_eq!(m.reference_of(&m.stimuli[1]), None);
+        // Its own reference.
+        let mut top = test;
+        top.reference_id = Some(top.id.clone());
+        assert!(top.own_reference());
+        m.stimuli[0] = top.clone();
+        assert_eq!(m.reference_of(&top).unwrap().id, top.id);
     }
 
     #[test]

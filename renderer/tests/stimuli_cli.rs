@@ -2,11 +2,14 @@
 //! same stimulus set as one uninterrupted run; so do the generated Slurm array script's body
 //! run locally for every array index, and shards fanned out with xargs.
 
+mod support;
+
 use renderer::manifest::Manifest;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+use support::{render, s};
 
 const RENDER: &str = env!("CARGO_BIN_EXE_render");
 
@@ -30,20 +33,6 @@ fn setup(size: u32, frames: u32, reference_spp: u32) -> (tempfile::TempDir, Path
     let path = d.join("job.json");
     std::fs::write(&path, job).unwrap();
     (dir, path)
-}
-
-fn render(args: &[&str]) -> String {
-    let out = Command::new(RENDER).args(args).output().unwrap();
-    assert!(
-        out.status.success(),
-        "render {args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// PNG and EXR bytes by relative path.

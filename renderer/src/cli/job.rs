@@ -1,4 +1,4 @@
-//! `render job <job.json>`: render a stimulus set (or one shard of it), finalize it, estimate
+//! `render job <job.json | job.job>`: render a stimulus set (or one shard of it), finalize it, estimate
 //! it, or write a Slurm job-array script for it.
 
 use crate::job::slurm::{SlurmOptions, script};
@@ -10,8 +10,13 @@ use std::path::{Path, PathBuf};
 /// Render every stimulus of a job into <out>/<job name>/ (resumable; rerun to finish).
 #[derive(Debug, Args)]
 pub struct JobArgs {
-    /// The job file (format blurlab-job/1), e.g. scenes/jobs/demo.json.
+    /// The job file: JSON (format blurlab-job/1, e.g. scenes/jobs/demo.json) or the thesis's
+    /// seven-line text (Figure 12, ending in .job).
     pub job: PathBuf,
+    /// Render these scenes (JSON or .scene) instead of the job's; repeat for several. (Not
+    /// with --emit-slurm: cluster tasks read the job file, so name the scenes there.)
+    #[arg(long = "scene", value_name = "SCENE", conflicts_with = "emit_slurm")]
+    pub scenes: Vec<PathBuf>,
     /// Root folder of stimulus sets.
     #[arg(long, default_value = "stimuli")]
     pub out: PathBuf,
@@ -42,7 +47,7 @@ pub struct JobArgs {
 }
 
 pub fn run(args: JobArgs) -> Result<()> {
-    let job = Job::load(&args.job)?;
+    let job = Job::load_with_scenes(&args.job, &args.scenes)?;
     let shard = args.shard.unwrap_or(Shard::WHOLE);
     if let Some(path) = &args.emit_slurm {
         return emit_slurm(&job, &args, path);

@@ -2,6 +2,7 @@
 //! umbrella command both call [`run`].
 
 pub mod assets;
+pub mod convert;
 pub mod export;
 pub mod job;
 pub mod pointsets;
@@ -14,7 +15,8 @@ use clap::Subcommand;
 /// Renderer subcommands.
 #[derive(Debug, Subcommand)]
 pub enum RenderCommand {
-    /// Render a stimulus job (scenes/jobs/*.json) into stimuli/<job>/: resumable, shardable.
+    /// Render a stimulus job (scenes/jobs/*.json, or a thesis .job) into stimuli/<job>/:
+    /// resumable, shardable.
     Job(job::JobArgs),
     /// Error against spp and render time of a rendered job: CSV and log-log plots.
     Report(report::ReportArgs),
@@ -22,8 +24,11 @@ pub enum RenderCommand {
     Export(export::ExportArgs),
     /// Regenerate the procedural models and environment maps under scenes/.
     Assets(assets::AssetsArgs),
-    /// Render a scene's frames (scenes/*.json) into a folder of PNG (and EXR) files.
+    /// Render a scene's frames (scenes/*.json, or a thesis .scene) into a folder of PNG (and
+    /// EXR) files.
     Scene(scene::SceneArgs),
+    /// Convert a scene or job between JSON and the thesis's text formats (.scene, .job).
+    Convert(convert::ConvertArgs),
     /// Measure a point set (discrepancy, spacing) and plot its 2D projections (thesis Figure 4).
     Pointsets(pointsets::PointsetsArgs),
 }
@@ -37,5 +42,6 @@ pub fn run(cmd: RenderCommand) -> Result<()> {
         RenderCommand::Assets(a) => assets::run(a),
         RenderCommand::Scene(a) => scene::run(a),
         RenderCommand::Pointsets(a) => pointsets::run(a),
+        RenderCommand::Convert(a) => convert::run(a),
     }
 }

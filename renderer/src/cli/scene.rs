@@ -1,4 +1,4 @@
-//! `render scene <scene.json> --spp N --out DIR [--frames a..b] [--exr]`: render a scene's
+//! `render scene <scene.json | scene.scene> --spp N --out DIR [--frames a..b] [--exr]`: render a scene's
 //! frames with its own settings (or the sampling given here) into a folder.
 
 use crate::render::sequence::{SequenceOptions, render_sequence};
@@ -8,10 +8,11 @@ use clap::Args;
 use std::ops::Range;
 use std::path::PathBuf;
 
-/// Render the frames of a scene (format blurlab-scene/1) to DIR/frame_NNNN.png.
+/// Render the frames of a scene (JSON blurlab-scene/1, or the thesis's block text ending in
+/// .scene) to DIR/frame_NNNN.png.
 #[derive(Debug, Args)]
 pub struct SceneArgs {
-    /// The scene file, e.g. scenes/plane.json.
+    /// The scene file, e.g. scenes/plane.json or a thesis .scene.
     pub scene: PathBuf,
     /// Output folder (created if needed).
     #[arg(long)]

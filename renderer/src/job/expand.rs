@@ -1,9 +1,12 @@
-//! Expanding a job into its stimuli: per scene, the reference first, then every
-//! point set x time filter x level. Ids are stable (`plane-hammersley-truncated_box-0064`,
-//! `plane-reference`) and each stimulus's seed depends only on the master seed and its id,
-//! so adding a level or a point set to a job never changes the other stimuli.
+//! Expanding a job into its stimuli: per scene, the independent reference first (if the job
+//! has one), then every point set x time filter x level. Ids are stable
+//! (`plane-hammersley-truncated_box-0064`, `plane-reference`) and each stimulus's seed depends
+//! only on the master seed and its id, so adding a level or a point set to a job never changes
+//! the other stimuli. Each test stimulus names the stimulus it is measured against: the
+//! scene's reference, or with [`Reference::HighestLevel`] the highest level of its own point
+//! set and time filter — which is then its own reference.
 
-use super::Job;
+use super::{Job, Reference};
 use crate::hash;
 use crate::sampling::SamplingConfig;
 
@@ -15,9 +18,20 @@ pub struct StimulusSpec {
     pub scene_index: usize,
     pub scene: String,
     pub sampling: SamplingConfig,
+    /// An independent reference render (`<scene>-reference`).
     pub reference: bool,
+    /// The id of the stimulus this one is measured against (its own id for the highest level
+    /// under [`Reference::HighestLevel`]); `None` for an independent reference.
+    pub reference_id: Option<String>,
     /// The stimulus's own seed: `hash(job seed, [name_id(id)])`.
     pub seed: u64,
+}
+
+impl StimulusSpec {
+    /// Whether this stimulus is its own reference (zero error by construction).
+    pub fn own_reference(&self) -> bool {
+        self.reference_id.as_deref() == Some(self.id.as_str())
+    }
 }
 
 /// The id of a test stimulus. Levels are zero-padded to four digits so ids sort by level.
@@ -34,23 +48,36 @@ pub fn reference_id(scene: &str) -> String {
 pub fn expand(job: &Job) -> Vec<StimulusSpec> {
     let mut out = Vec::new();
     for (scene_index, scene) in job.scenes.iter().enumerate() {
-        let mut push = |id: String, sampling: SamplingConfig, reference: bool| {
+        let mut push = |id: String, sampling: SamplingConfig, reference_id: Option<String>| {
             let seed = hash::hash(job.seed, &[hash::name_id(&id)]);
             out.push(StimulusSpec {
                 id,
                 scene_index,
                 scene: scene.name.clone(),
                 sampling,
-                reference,
+                reference: reference_id.is_none(),
+                reference_id,
                 seed,
             });
         };
-        push(reference_id(&scene.name), job.reference.clone(), true);
+        if let Reference::Independent(r) = &job.reference {
+            push(reference_id(&scene.name), r.clone(), None);
+        }
         for ps in &job.point_sets {
             for tf in &job.time_filters {
+                let against = match job.reference {
+                    Reference::Independent(_) => reference_id(&scene.name),
+                    Reference::HighestLevel => {
+                        stimulus_id(&scene.name, ps, tf, job.highest_level())
+                    }
+                };
                 for &spp in &job.levels {
                     let sampling = super::stimulus_sampling(ps, spp, tf, &job.overrides.sampling);
-                    push(stimulus_id(&scene.name, ps, tf, spp), sampling, false);
+                    push(
+                        stimulus_id(&scene.name, ps, tf, spp),
+                        sampling,
+                        Some(against.clone()),
+                    );
                 }
             }
         }
@@ -77,12 +104,12 @@ mod tests {
             levels,
             point_sets: point_sets.iter().map(|s| s.to_string()).collect(),
             time_filters: vec!["truncated_box".into(), "box".into()],
-            reference: SamplingConfig {
+            reference: Reference::Independent(SamplingConfig {
                 point_set: "hammersley".into(),
                 spp: 1000,
                 time_filter: "truncated_box".into(),
                 ..Default::default()
-            },
+            }),
             seed: 42,
             overrides: Overrides::default(),
             frames_per_unit: 8,
@@ -98,7 +125,10 @@ mod tests {
         assert_eq!(s.len(), 2 * (1 + 3 * 2 * 4));
         assert_eq!(s.iter().filter(|s| s.reference).count(), 2);
         assert_eq!(s[0].id, "plane-reference");
+        assert_eq!(s[0].reference_id, None);
         assert_eq!(s[1].id, "plane-hammersley-truncated_box-0001");
+        assert_eq!(s[1].reference_id.as_deref(), Some("plane-reference"));
+        assert!(s.iter().all(|s| !s.own_reference()));
         assert!(s.iter().any(|s| s.id == "spheres-poisson-box-0064"));
         let mut ids: Vec<_> = s.iter().map(|s| &s.id).collect();
         ids.sort();
@@ -123,5 +153,36 @@ mod tests {
             small[0].seed,
             hash::hash(42, &[hash::name_id("plane-reference")])
         );
+    }
+
+    #[test]
+    fn highest_level_references_are_per_condition_and_render_nothing_extra() {
+        let mut j = job(vec![8, 64, 27], &["hammersley", "poisson"]);
+        j.reference = Reference::HighestLevel;
+        let s = expand(&j);
+        assert_eq!(s.len(), 2 * 2 * 2 * 3, "no reference renders");
+        assert!(s.iter().all(|s| !s.reference));
+        for spec in &s {
+            let (scene, ps, tf) = (
+                &spec.scene,
+                &spec.sampling.point_set,
+                &spec.sampling.time_filter,
+            );
+            let want = stimulus_id(scene, ps, tf, 64);
+            assert_eq!(
+                spec.reference_id.as_deref(),
+                Some(want.as_str()),
+                "{}",
+                spec.id
+            );
+            assert_eq!(spec.own_reference(), spec.sampling.spp == 64, "{}", spec.id);
+        }
+        // Same ids and seeds as with an independent reference: switching the reference choice
+        // re-renders nothing that exists.
+        let independent = expand(&job(vec![8, 64, 27], &["hammersley", "poisson"]));
+        for spec in &s {
+            let same = independent.iter().find(|o| o.id == spec.id).unwrap();
+            assert_eq!((same.seed, &same.sampling), (spec.seed, &spec.sampling));
+        }
     }
 }

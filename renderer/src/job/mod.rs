@@ -1,11 +1,14 @@
 //! Stimulus jobs (format `blurlab-job/1`): the thesis's batch job description (Figure 12 —
 //! name, sampling levels, point sets, time filters) plus the scenes it applies to, the
 //! reference, the master seed and optional overrides. A job expands into one stimulus per
-//! scene x point set x time filter x level plus one reference per scene ([`expand`]), which
-//! [`runner`] renders into `stimuli/<job>/`, optionally split into shards ([`shard`]).
+//! scene x point set x time filter x level, plus one independent reference per scene unless
+//! the reference is each condition's highest level ([`expand`]); [`runner`] renders them into
+//! `stimuli/<job>/`, optionally split into shards ([`shard`]). The thesis's own seven-line text
+//! (Figure 12, `.job`) reads into the same [`JobFile`] ([`line_format`]).
 
 pub mod expand;
 pub mod frame_record;
+pub mod line_format;
 pub mod linear_frame;
 pub mod runner;
 pub mod scene_source;
@@ -19,6 +22,7 @@ pub use scene_source::{dry_run, run};
 pub use shard::Shard;
 
 use crate::sampling::{FrameSampler, SamplingConfig, SamplingOptions};
+use crate::text::SourceMap;
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -44,7 +48,9 @@ pub struct JobFile {
     pub point_sets: Vec<String>,
     /// Time filters, e.g. `truncated_box`.
     pub time_filters: Vec<String>,
-    /// The high-density reference rendered once per scene.
+    /// What each stimulus is measured against: the highest level of its own point set and time
+    /// filter (`"highest_level"`, the thesis's ground truth), or an independent high-density
+    /// render per scene (`{"spp": N, ...}`).
     pub reference: ReferenceSpec,
     /// Master seed; a stimulus's seed is `hash(seed, name_id(stimulus id))`.
     pub seed: u64,
@@ -56,10 +62,49 @@ pub struct JobFile {
     pub frames_per_unit: Option<u32>,
 }
 
-/// The reference of each scene.
+/// The ground truth each stimulus is measured against.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReferenceSpec {
+    /// The highest level of the same scene, point set and time filter (JSON
+    /// `"highest_level"`): the thesis's "highest sampling density (512 samples per pixel)",
+    /// so the highest level's trial shows two identical pairs. Nothing extra is rendered.
+    HighestLevel,
+    /// One render per scene at its own density (JSON `{"spp": N, "point_set"?, "time_filter"?}`).
+    Independent(IndependentReference),
+}
+
+/// JSON spelling of [`ReferenceSpec::HighestLevel`].
+pub const HIGHEST_LEVEL: &str = "highest_level";
+
+impl Serialize for ReferenceSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            ReferenceSpec::HighestLevel => s.serialize_str(HIGHEST_LEVEL),
+            ReferenceSpec::Independent(r) => r.serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for ReferenceSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error;
+        match serde_json::Value::deserialize(d)? {
+            serde_json::Value::String(s) if s == HIGHEST_LEVEL => Ok(ReferenceSpec::HighestLevel),
+            v @ serde_json::Value::Object(_) => serde_json::from_value(v)
+                .map(ReferenceSpec::Independent)
+                .map_err(D::Error::custom),
+            other => Err(D::Error::custom(format!(
+                "found {other}; expected \"{HIGHEST_LEVEL}\" or an independent reference \
+                 {{\"spp\": N, \"point_set\": ..., \"time_filter\": ...}}"
+            ))),
+        }
+    }
+}
+
+/// A reference rendered once per scene.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub struct ReferenceSpec {
+pub struct IndependentReference {
     /// Samples per pixel; should be well above the highest level.
     pub spp: u32,
     /// Point set of the reference (default: the job's first).
@@ -110,6 +155,15 @@ pub struct JobScene {
     pub path: PathBuf,
 }
 
+/// A job's reference, checked.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Reference {
+    /// Each condition's highest level ([`ReferenceSpec::HighestLevel`]).
+    HighestLevel,
+    /// One render per scene with this sampling (defaults filled in).
+    Independent(SamplingConfig),
+}
+
 /// A loaded, validated job.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Job {
@@ -120,27 +174,63 @@ pub struct Job {
     pub levels: Vec<u32>,
     pub point_sets: Vec<String>,
     pub time_filters: Vec<String>,
-    /// The reference's sampling, with defaults filled in.
-    pub reference: SamplingConfig,
+    pub reference: Reference,
     pub seed: u64,
     pub overrides: Overrides,
     pub frames_per_unit: u32,
 }
 
-impl Job {
-    /// Read and validate a job file. Errors name the file, the field and what was expected.
-    pub fn load(path: &Path) -> Result<Self> {
+impl JobFile {
+    /// Read a job file, JSON or (by the extension `.job`) the thesis's seven-line text, with
+    /// the lines of a text job (for messages).
+    pub fn read(path: &Path) -> Result<(Self, Option<SourceMap>)> {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read job file {}", path.display()))?;
-        let file: JobFile = serde_json::from_str(&text)
+        if line_format::is_line_job(path) {
+            let (file, map) = line_format::read(&text, path)?;
+            return Ok((file, Some(map)));
+        }
+        let file = serde_json::from_str(&text)
             .with_context(|| format!("{}: not a valid job file", path.display()))?;
-        Self::from_file(file, path)
+        Ok((file, None))
+    }
+}
+
+impl Job {
+    /// Read and validate a job file (JSON, or the thesis's text by the extension `.job`).
+    /// Errors name the file, the field (or line and key) and what was expected.
+    pub fn load(path: &Path) -> Result<Self> {
+        Self::load_with_scenes(path, &[])
+    }
+
+    /// [`Job::load`], with the job's scenes replaced by `scenes` unless it is empty (the
+    /// `--scene` option; paths relative to the working folder).
+    pub fn load_with_scenes(path: &Path, scenes: &[PathBuf]) -> Result<Self> {
+        let (mut file, mut map) = JobFile::read(path)?;
+        if !scenes.is_empty() {
+            file.scenes = scenes
+                .iter()
+                .map(|s| {
+                    let abs = std::path::absolute(s).unwrap_or_else(|_| s.clone());
+                    abs.to_string_lossy().into_owned()
+                })
+                .collect();
+            if let Some(m) = &mut map {
+                m.add("scenes", None, "the option --scene");
+            }
+        }
+        Self::from_file_mapped(file, path, map.as_ref())
     }
 
     /// Validate a parsed job file; scene paths resolve against `path`'s folder.
     pub fn from_file(f: JobFile, path: &Path) -> Result<Self> {
+        Self::from_file_mapped(f, path, None)
+    }
+
+    /// [`Job::from_file`], with errors located by `map` (the lines of a text job).
+    pub fn from_file_mapped(f: JobFile, path: &Path, map: Option<&SourceMap>) -> Result<Self> {
         let at = |field: &str, what: String| -> anyhow::Error {
-            anyhow::anyhow!("{}: field `{field}` {what}", path.display())
+            SourceMap::error(map, path, field, what)
         };
         if f.format != JOB_FORMAT {
             return Err(at(
@@ -188,27 +278,30 @@ impl Job {
         ] {
             check_list(field, list, |n| check_name(n).err()).map_err(|(fl, e)| at(&fl, e))?;
         }
-        let reference = stimulus_sampling(
-            f.reference.point_set.as_ref().unwrap_or(&f.point_sets[0]),
-            f.reference.spp,
-            f.reference
-                .time_filter
-                .as_ref()
-                .unwrap_or(&f.time_filters[0]),
-            &f.overrides.sampling,
-        );
-        if let Some(max) = f.levels.iter().max().filter(|&&m| reference.spp <= m) {
-            return Err(at(
-                "reference.spp",
-                format!(
-                    "is {}; expected more than the highest level ({max})",
-                    reference.spp
-                ),
-            ));
-        }
-        // The sampler is the authority on point set and filter names and on constraints such
-        // as cube counts for stratified sampling.
-        check_sampling(&reference).map_err(|e| at("reference", e))?;
+        let reference = match &f.reference {
+            ReferenceSpec::HighestLevel => Reference::HighestLevel,
+            ReferenceSpec::Independent(r) => {
+                let reference = stimulus_sampling(
+                    r.point_set.as_ref().unwrap_or(&f.point_sets[0]),
+                    r.spp,
+                    r.time_filter.as_ref().unwrap_or(&f.time_filters[0]),
+                    &f.overrides.sampling,
+                );
+                if let Some(max) = f.levels.iter().max().filter(|&&m| reference.spp <= m) {
+                    return Err(at(
+                        "reference.spp",
+                        format!(
+                            "is {}; expected more than the highest level ({max})",
+                            reference.spp
+                        ),
+                    ));
+                }
+                // The sampler is the authority on point set and filter names and on
+                // constraints such as cube counts for stratified sampling.
+                check_sampling(&reference).map_err(|e| at("reference", e))?;
+                Reference::Independent(reference)
+            }
+        };
         for (i, ps) in f.point_sets.iter().enumerate() {
             for tf in &f.time_filters {
                 for &spp in &f.levels {
@@ -252,6 +345,25 @@ impl Job {
     /// Whether every stimulus keeps EXR frames.
     pub fn keep_exr(&self) -> bool {
         self.overrides.exr.unwrap_or(false)
+    }
+
+    /// The highest sampling level.
+    pub fn highest_level(&self) -> u32 {
+        self.levels.iter().copied().max().unwrap_or(1)
+    }
+
+    /// A sampling typical of the job's most expensive stimuli: the independent reference's,
+    /// else the first condition at the highest level (for time estimates).
+    pub fn heaviest_sampling(&self) -> SamplingConfig {
+        match &self.reference {
+            Reference::Independent(r) => r.clone(),
+            Reference::HighestLevel => stimulus_sampling(
+                &self.point_sets[0],
+                self.highest_level(),
+                &self.time_filters[0],
+                &self.overrides.sampling,
+            ),
+        }
     }
 }
 
@@ -341,8 +453,11 @@ mod tests {
         let (_d, p) = setup(&job_text());
         let job = Job::load(&p).unwrap();
         assert_eq!(job.scenes[1].name, "b");
-        assert_eq!(job.reference.point_set, "random");
-        assert_eq!(job.reference.time_filter, "box");
+        let Reference::Independent(r) = &job.reference else {
+            panic!("an independent reference")
+        };
+        assert_eq!(r.point_set, "random");
+        assert_eq!(r.time_filter, "box");
         assert_eq!(job.frames_per_unit, DEFAULT_FRAMES_PER_UNIT);
     }
 
@@ -384,6 +499,28 @@ mod tests {
     }
 
     #[test]
+    fn the_reference_is_the_highest_level_or_an_independent_render() {
+        let text = job_text().replace("{\"spp\": 64}", "\"highest_level\"");
+        let (_d, p) = setup(&text);
+        let job = Job::load(&p).unwrap();
+        assert_eq!(job.reference, Reference::HighestLevel);
+        assert_eq!(job.heaviest_sampling().spp, 27);
+        let file: JobFile = serde_json::from_str(&text).unwrap();
+        assert!(
+            serde_json::to_string(&file)
+                .unwrap()
+                .contains("\"reference\":\"highest_level\"")
+        );
+        let e = error_of(&job_text().replace("{\"spp\": 64}", "\"highest\""));
+        assert!(
+            e.contains("found \"highest\"; expected \"highest_level\" or an independent reference"),
+            "{e}"
+        );
+        let e = error_of(&job_text().replace("{\"spp\": 64}", "{\"sp\": 64}"));
+        assert!(e.contains("unknown field `sp`"), "{e}");
+    }
+
+    #[test]
     fn unknown_fields_and_missing_fields_are_reported() {
         let e = error_of(&job_text().replace("\"seed\": 7", "\"sed\": 7"));
         assert!(e.contains("job.json") && e.contains("sed"), "{e}");
@@ -399,7 +536,7 @@ mod tests {
         );
         let (_d, p) = setup(&text);
         let job = Job::load(&p).unwrap();
-        assert_eq!(job.reference.spatial_filter(), SpatialFilter::Box);
+        assert_eq!(job.heaviest_sampling().spatial_filter(), SpatialFilter::Box);
         for s in expand(&job) {
             assert_eq!(
                 s.sampling.spatial_filter,

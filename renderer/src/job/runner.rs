@@ -96,6 +96,9 @@ pub(crate) struct Plan {
     /// Per stimulus: its scene's setup (with the job's overrides applied by the source).
     pub setups: Vec<FrameSetup>,
     pub units: Vec<Unit>,
+    /// Per stimulus: some stimulus is measured against it (its frames keep EXR copies and are
+    /// rendered first within a shard).
+    pub serves_as_reference: Vec<bool>,
 }
 
 impl Plan {
@@ -112,12 +115,17 @@ impl Plan {
             .iter()
             .map(|s| sources[s.scene_index].setup())
             .collect();
+        let serves_as_reference: Vec<bool> = specs
+            .iter()
+            .map(|s| s.reference || specs.iter().any(|o| o.reference_id.as_ref() == Some(&s.id)))
+            .collect();
         let sizes: Vec<(u32, u64, bool)> = specs
             .iter()
             .zip(&setups)
-            .map(|(s, u)| {
+            .zip(&serves_as_reference)
+            .map(|((s, u), &r)| {
                 let per_frame = u.width as u64 * u.height as u64 * s.sampling.spp as u64;
-                (u.frames, per_frame, s.reference)
+                (u.frames, per_frame, r)
             })
             .collect();
         let units = shard::units(&sizes, job.frames_per_unit);
@@ -125,15 +133,24 @@ impl Plan {
             specs,
             setups,
             units,
+            serves_as_reference,
         })
     }
 
-    fn reference_of(&self, i: usize) -> usize {
-        let scene = self.specs[i].scene_index;
-        self.specs
-            .iter()
-            .position(|s| s.reference && s.scene_index == scene)
-            .expect("every scene has a reference")
+    /// The stimulus that stimulus `i` is measured against, unless it has none to be measured
+    /// against (an independent reference, or its own reference).
+    fn reference_of(&self, i: usize) -> Option<usize> {
+        let spec = &self.specs[i];
+        if spec.own_reference() {
+            return None;
+        }
+        let id = spec.reference_id.as_ref()?;
+        self.specs.iter().position(|s| &s.id == id)
+    }
+
+    /// Whether stimulus `i`'s frames get an error against a reference.
+    fn measured(&self, i: usize) -> bool {
+        self.reference_of(i).is_some()
     }
 }
 
@@ -184,8 +201,10 @@ fn stimulus_dir(job_dir: &Path, spec: &StimulusSpec) -> PathBuf {
     job_dir.join(&spec.id)
 }
 
-fn need_exr(job: &Job, spec: &StimulusSpec) -> bool {
-    spec.reference || job.keep_exr()
+/// Whether stimulus `s` keeps EXR frames: references (to measure others against) and, on
+/// request, every stimulus.
+fn need_exr(job: &Job, plan: &Plan, s: usize) -> bool {
+    plan.serves_as_reference[s] || job.keep_exr()
 }
 
 /// Write or check every stimulus's stamp; refuse frames of a different job under the same name.
@@ -225,7 +244,13 @@ fn stamp_stimuli(job: &Job, plan: &Plan, job_dir: &Path) -> Result<()> {
             crate::atomic::write_atomic(&path, &serde_json::to_vec_pretty(&stamp)?)?;
         }
     }
-    let copy = job_dir.join("job.json");
+    // The job file as given (`job.json`, or `job.job` for the thesis's text).
+    let ext = job
+        .path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("json");
+    let copy = job_dir.join(format!("job.{ext}"));
     let text = std::fs::read(&job.path)
         .with_context(|| format!("cannot read job file {}", job.path.display()))?;
     crate::atomic::write_atomic(&copy, &text)
@@ -247,7 +272,7 @@ fn render_units(
         let spec = &plan.specs[unit.stimulus];
         let dir = stimulus_dir(job_dir, spec);
         for f in unit.frames.clone() {
-            if record::completed(&dir, f, need_exr(job, spec)).is_some() {
+            if record::completed(&dir, f, need_exr(job, plan, unit.stimulus)).is_some() {
                 report.frames_skipped += 1;
             } else {
                 todo.push((unit.stimulus, f));
@@ -311,17 +336,17 @@ fn render_frame(
     let png = png_bytes(&rendered.display, setup.width, setup.height)?;
     // Measure now if the reference frame already exists; otherwise keep this frame's linear
     // values (a scratch EXR) so the error can be measured when the job is finalized.
-    let error = if spec.reference {
-        None
-    } else {
-        let r = &plan.specs[plan.reference_of(s)];
-        let ref_dir = stimulus_dir(job_dir, r);
-        match record::completed(&ref_dir, frame, true) {
-            Some(_) => Some(measure(&rendered, &ref_dir, frame, setup)?),
-            None => None,
+    let error = match plan.reference_of(s) {
+        None => None,
+        Some(r) => {
+            let ref_dir = stimulus_dir(job_dir, &plan.specs[r]);
+            match record::completed(&ref_dir, frame, true) {
+                Some(_) => Some(measure(&rendered, &ref_dir, frame, setup)?),
+                None => None,
+            }
         }
     };
-    let keep_exr = need_exr(job, spec) || (error.is_none() && !spec.reference);
+    let keep_exr = need_exr(job, plan, s) || (error.is_none() && plan.measured(s));
     let mut exr_bytes = None;
     if keep_exr {
         let exr = linear_frame::exr_bytes(&rendered.linear, setup.width, setup.height)?;
@@ -336,7 +361,7 @@ fn render_frame(
         png_sha256: record::sha256_hex(&png),
         exr_bytes,
         render_seconds,
-        error: error.filter(|_| !spec.reference),
+        error,
     }
     .save(&dir)
 }
@@ -387,7 +412,7 @@ fn missing_frames(job: &Job, plan: &Plan, job_dir: &Path) -> Vec<(usize, u32)> {
     for (s, spec) in plan.specs.iter().enumerate() {
         let dir = stimulus_dir(job_dir, spec);
         for f in 0..plan.setups[s].frames {
-            if record::completed(&dir, f, need_exr(job, spec)).is_none() {
+            if record::completed(&dir, f, need_exr(job, plan, s)).is_none() {
                 out.push((s, f));
             }
         }
@@ -407,9 +432,9 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
         let mut frame_paths = Vec::new();
         let mut exr_paths = Vec::new();
         for f in 0..setup.frames {
-            let mut rec = record::completed(&dir, f, need_exr(job, spec))
+            let mut rec = record::completed(&dir, f, need_exr(job, plan, s))
                 .with_context(|| format!("{} frame {f} disappeared", spec.id))?;
-            if !spec.reference && rec.error.is_none() {
+            if plan.measured(s) && rec.error.is_none() {
                 rec = measure_late(job, plan, job_dir, s, rec)?;
             }
             let png = std::fs::read(record::png_path(&dir, f))?;
@@ -426,7 +451,7 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
                 acc.add(e);
             }
             frame_paths.push(format!("{}/{}", spec.id, record::png_name(f)));
-            if need_exr(job, spec) {
+            if need_exr(job, plan, s) {
                 exr_paths.push(format!("{}/{}", spec.id, record::exr_name(f)));
             }
         }
@@ -438,6 +463,7 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
             time_filter: spec.sampling.time_filter.clone(),
             spp: spec.sampling.spp,
             reference: spec.reference,
+            reference_id: spec.reference_id.clone(),
             seed: spec.seed,
             width: setup.width,
             height: setup.height,
@@ -447,7 +473,7 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
             exr_paths,
             content_hash: hasher.finish(),
             render_seconds: seconds,
-            error: if spec.reference { None } else { acc.finish() },
+            error: if plan.measured(s) { acc.finish() } else { None },
         });
     }
     m.save(job_dir)?;
@@ -478,9 +504,12 @@ fn measure_late(
     };
     let display = image::open(record::png_path(&dir, f))?.to_rgb8().into_raw();
     let frame = RenderedFrame { linear, display };
-    let ref_dir = stimulus_dir(job_dir, &plan.specs[plan.reference_of(s)]);
+    let r = plan
+        .reference_of(s)
+        .context("a measured stimulus has a reference")?;
+    let ref_dir = stimulus_dir(job_dir, &plan.specs[r]);
     rec.error = Some(measure(&frame, &ref_dir, f, plan.setups[s])?);
-    let scratch = !need_exr(job, spec);
+    let scratch = !need_exr(job, plan, s);
     if scratch {
         rec.exr_bytes = None;
     }
@@ -537,7 +566,7 @@ pub fn dry_run_with_sources(
     let mine = shard::assign(&plan.units, shard);
     let mut calibration = Vec::new();
     for (scene, src) in job.scenes.iter().zip(sources) {
-        let (per_sample, per_frame) = calibrate(src.as_ref(), &job.reference)?;
+        let (per_sample, per_frame) = calibrate(src.as_ref(), &job.heaviest_sampling())?;
         calibration.push((scene.name.clone(), per_sample, per_frame));
     }
     let unit_seconds = |u: &Unit| {

@@ -5,7 +5,7 @@
 //! `sampling` block like a real scene's `settings.sampling`): the whole job
 //! pipeline — CLI, resume after a kill, shards, Slurm script — can be exercised end to end in
 //! milliseconds with it. `blurlab-scene/1` is a real scene ([`crate::scene`]), rendered by
-//! [`SceneSource`].
+//! [`SceneSource`]; a file ending in `.scene` is a real scene in the thesis's block text.
 
 use super::source::{FrameSetup, FrameSource, RenderedFrame, SyntheticSource};
 use super::{Job, Overrides, runner};
@@ -60,23 +60,27 @@ pub fn load_sources(job: &Job) -> Result<Vec<Box<dyn FrameSource>>> {
 pub fn load_source(path: &Path, overrides: &Overrides) -> Result<Box<dyn FrameSource>> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read scene {}", path.display()))?;
+    if crate::scene::block_format::is_block_scene(path) {
+        return scene_source(Scene::from_block_text(&text, path)?, overrides);
+    }
     let head: FormatOnly = serde_json::from_str(&text)
         .with_context(|| format!("{}: not a JSON scene file", path.display()))?;
     match head.format.as_deref() {
         Some(SYNTHETIC_FORMAT) => synthetic(&text, path, overrides),
-        Some(SCENE_FORMAT) => {
-            let scene = Scene::from_json(&text, path)?;
-            for w in &scene.warnings {
-                eprintln!("warning: {w}");
-            }
-            Ok(Box::new(SceneSource::new(Arc::new(scene), overrides)?))
-        }
+        Some(SCENE_FORMAT) => scene_source(Scene::from_json(&text, path)?, overrides),
         other => bail!(
             "{}: field `format` is {other:?}; expected {SCENE_FORMAT:?} (or \
              {SYNTHETIC_FORMAT:?} for the analytic test pattern)",
             path.display()
         ),
     }
+}
+
+fn scene_source(scene: Scene, overrides: &Overrides) -> Result<Box<dyn FrameSource>> {
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(Box::new(SceneSource::new(Arc::new(scene), overrides)?))
 }
 
 /// A real scene as a job's frame source, with the job's overrides: size, number of frames, and

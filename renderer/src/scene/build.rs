@@ -15,6 +15,7 @@ use crate::light::Light;
 use crate::material::{Fresnel, Material};
 use crate::motion::{Motion, MotionLayer};
 use crate::sampling::FrameSampler;
+use crate::text::SourceMap;
 use anyhow::{Result, anyhow};
 use glam::{Quat, Vec2, Vec3, Vec3A};
 use std::collections::HashMap;
@@ -40,11 +41,13 @@ pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
 /// Errors of one file.
 struct Check<'a> {
     path: &'a Path,
+    /// Lines of a text scene (`.scene`), so that errors name the line and key.
+    map: Option<&'a SourceMap>,
 }
 
 impl Check<'_> {
     fn err(&self, field: impl std::fmt::Display, what: impl std::fmt::Display) -> anyhow::Error {
-        anyhow!("{}: field `{field}` {what}", self.path.display())
+        SourceMap::error(self.map, self.path, &field.to_string(), what)
     }
 
     fn finite3(&self, field: String, v: [f32; 3]) -> Result<Vec3> {
@@ -140,7 +143,12 @@ struct Placement {
 
 /// Check `f` (read from `path`) and load what it names.
 pub fn build(f: SceneFile, path: &Path) -> Result<Scene> {
-    let c = Check { path };
+    build_mapped(f, path, None)
+}
+
+/// [`build`], with errors located by `map` (the lines of a text scene).
+pub fn build_mapped(f: SceneFile, path: &Path, map: Option<&SourceMap>) -> Result<Scene> {
+    let c = Check { path, map };
     if f.format != SCENE_FORMAT {
         return Err(c.err(
             "format",

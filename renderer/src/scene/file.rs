@@ -1,7 +1,8 @@
 //! The scene file as written on disk (`blurlab-scene/1`, JSON): the thesis's seven blocks
 //! (Figure 13) — materials, objects, object instances, groups, lights, one camera, one settings
 //! block. These types only parse; [`super::build`] checks them and turns them into a
-//! [`super::Scene`]. Field by field documentation: `docs/scene-format.md`.
+//! [`super::Scene`]. Field by field documentation: `docs/scene-format.md`. The thesis's own
+//! block text (`.scene`) reads into the same types ([`super::block_format`]).
 //!
 //! Kind-specific fields (a sphere's `radius`, a model's `file`) are optional fields of one struct
 //! rather than an internally tagged enum, so that every parse error keeps its full field path
@@ -18,6 +19,10 @@ pub const SCENE_FORMAT: &str = "blurlab-scene/1";
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
     pub format: String,
+    /// The scene's name for people (thesis: `scenename`); ignored by the renderer. Jobs name a
+    /// scene by its file stem.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
     /// Free text for people; ignored by the renderer.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub description: Option<String>,
@@ -56,8 +61,11 @@ pub struct MaterialDesc {
     pub fresnel: Option<FresnelDesc>,
 }
 
+/// Phong exponent of a material that gives none.
+pub const DEFAULT_PHONG_EXPONENT: f32 = 32.0;
+
 fn default_phong() -> f32 {
-    32.0
+    DEFAULT_PHONG_EXPONENT
 }
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
@@ -217,8 +225,11 @@ pub struct CameraDesc {
     pub fov: f32,
 }
 
+/// The camera's up vector when none is given.
+pub const DEFAULT_UP: [f32; 3] = [0.0, 1.0, 0.0];
+
 fn up() -> [f32; 3] {
-    [0.0, 1.0, 0.0]
+    DEFAULT_UP
 }
 
 /// The settings block (thesis: starttime, frametime, numframes, sizex, sizey,
@@ -252,11 +263,16 @@ pub struct SettingsDesc {
     pub sampling: SamplingConfig,
 }
 
+/// Playback rate when a scene gives none.
+pub const DEFAULT_FPS: f64 = 30.0;
+/// Mirror bounces when a scene gives none.
+pub const DEFAULT_MAX_DEPTH: u32 = 4;
+
 fn default_fps() -> f64 {
-    30.0
+    DEFAULT_FPS
 }
 fn default_max_depth() -> u32 {
-    4
+    DEFAULT_MAX_DEPTH
 }
 
 /// A lat-long (equirectangular) environment map for rays that leave the scene.

@@ -1,8 +1,11 @@
 //! A loaded, validated scene (`blurlab-scene/1`): what the render loop needs — instances ready
 //! for [`crate::accel::World::build`], materials, lights, camera, environment map, settings.
 //! `docs/scene-format.md` describes the file; [`file`] parses it, [`build`] checks it (models
-//! load through [`crate::geometry::TriangleMesh::from_obj`]).
+//! load through [`crate::geometry::TriangleMesh::from_obj`]). The thesis's own block text
+//! (Figure 13, `.scene`) reads into the same file model ([`block_format`],
+//! `docs/thesis-formats.md`).
 
+pub mod block_format;
 pub mod build;
 pub mod file;
 pub mod graph;
@@ -63,11 +66,23 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Read and check a scene file; models and maps resolve against its folder.
+    /// Read and check a scene file, JSON or (by the extension `.scene`) the thesis's block
+    /// text; models and maps resolve against its folder.
     pub fn load(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read scene {}", path.display()))?;
-        Self::from_json(&text, path)
+        if block_format::is_block_scene(path) {
+            Self::from_block_text(&text, path)
+        } else {
+            Self::from_json(&text, path)
+        }
+    }
+
+    /// Parse and check scene text in the thesis's block format as if read from `path`; errors
+    /// name its lines and keys.
+    pub fn from_block_text(text: &str, path: &Path) -> Result<Self> {
+        let (file, map) = block_format::read(text, path)?;
+        build::build_mapped(file, path, Some(&map))
     }
 
     /// Parse and check scene text as if read from `path`.

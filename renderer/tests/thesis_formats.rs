@@ -1,0 +1,783 @@
+//! The thesis's own file formats: Figure 12's job and Figure 13's scene, as the thesis prints
+//! them (`tests/fixtures/thesis/`), parse to the printed values, render (the Figure 13 scene
+//! with small stand-ins for its model and map, the Figure 12 job through `render job` with the
+//! highest level as each condition's reference), and convert to JSON and back without loss.
+
+mod support;
+
+use proptest::prelude::*;
+use renderer::convert::{self, Document};
+use renderer::job::line_format;
+use renderer::job::{
+    IndependentReference, JOB_FORMAT, Job, JobFile, Overrides, Reference, ReferenceSpec,
+};
+use renderer::manifest::Manifest;
+use renderer::render::render_frame;
+use renderer::sampling::{Density, SamplingConfig, SamplingOptions, Scope, SpatialFilter};
+use renderer::scene::block_format;
+use renderer::scene::file::{
+    CameraDesc, EnvironmentDesc, FresnelDesc, GroupDesc, InstanceDesc, LightDesc, LightKind,
+    MaterialDesc, ObjectDesc, ObjectKind, Scale, SceneFile, SettingsDesc,
+};
+use renderer::scene::{SCENE_FORMAT, Scene};
+use std::path::{Path, PathBuf};
+use support::{render as run, s};
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/thesis")
+        .join(name)
+}
+
+fn read(name: &str) -> String {
+    std::fs::read_to_string(fixture(name)).unwrap()
+}
+
+/// A folder holding Figure 13's scene (as `name`) and small stand-ins at the paths it names:
+/// `models/B-727-200.obj` (a 4 x 1 x 4 box) and `data/CedarCity.hdr` (an 8 x 4 gradient sky).
+fn figure13_folder(name: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join(name), read("figure13.scene")).unwrap();
+    std::fs::create_dir_all(d.join("models")).unwrap();
+    std::fs::create_dir_all(d.join("data")).unwrap();
+    let mut obj = String::new();
+    for z in [-2.0, 2.0] {
+        for y in [-0.5, 0.5] {
+            for x in [-2.0, 2.0] {
+                obj += &format!("v {x} {y} {z}\n");
+            }
+        }
+    }
+    for f in [
+        [1, 2, 4, 3],
+        [5, 7, 8, 6],
+        [1, 5, 6, 2],
+        [3, 4, 8, 7],
+        [1, 3, 7, 5],
+        [2, 6, 8, 4],
+    ] {
+        obj += &format!("f {} {} {} {}\n", f[0], f[1], f[2], f[3]);
+    }
+    std::fs::write(d.join("models/B-727-200.obj"), obj).unwrap();
+    let (w, h) = (8usize, 4usize);
+    let sky: Vec<image::Rgb<f32>> = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f32, (i / w) as f32);
+            image::Rgb([
+                0.2 + 0.1 * x,
+                0.4 + 0.2 * y,
+                1.0 + 3.0 * (y == 0.0) as u8 as f32,
+            ])
+        })
+        .collect();
+    let mut hdr = Vec::new();
+    image::codecs::hdr::HdrEncoder::new(&mut hdr)
+        .encode(&sky, w, h)
+        .unwrap();
+    std::fs::write(d.join("data/CedarCity.hdr"), hdr).unwrap();
+    dir
+}
+
+#[test]
+fn figure_12_reads_as_printed() {
+    let path = fixture("figure12.job");
+    let (job, _) = line_format::read(&read("figure12.job"), &path).unwrap();
+    assert_eq!(
+        job,
+        JobFile {
+            format: JOB_FORMAT.into(),
+            name: "Plane_scene".into(),
+            // No scene line: the scene named after the job file, beside it.
+            scenes: vec!["figure12.scene".into()],
+            levels: vec![1, 8, 27, 64, 125, 216, 343, 512],
+            // `stratifiedmc` is the suite's `stratified`.
+            point_sets: vec!["hammersley".into(), "stratified".into(), "poisson".into()],
+            // `box` is the thesis's truncated box (docs/thesis-formats.md).
+            time_filters: vec!["truncated_box".into(), "triangle".into()],
+            // The thesis's ground truth: the highest level of the same point set and filter.
+            reference: ReferenceSpec::HighestLevel,
+            seed: line_format::DEFAULT_SEED,
+            overrides: Overrides {
+                // Every set gets new points and new pixel shifts every frame.
+                sampling: SamplingOptions {
+                    point_set_scope: Some(Scope::Frame),
+                    shift_scope: Some(Scope::Frame),
+                    ..Default::default()
+                },
+                ..Default::default()
+            },
+            frames_per_unit: None,
+        }
+    );
+}
+
+#[test]
+fn figure_13_reads_as_printed() {
+    let path = fixture("figure13.scene");
+    let (scene, _) = block_format::read(&read("figure13.scene"), &path).unwrap();
+    let expected = SceneFile {
+        format: SCENE_FORMAT.into(),
+        name: Some("planescene".into()),
+        description: None,
+        materials: vec![MaterialDesc {
+            name: "plane_material".into(),
+            diffuse: [0.6, 0.85, 1.0],
+            specular: [0.3, 0.3, 0.3],
+            ambient: [0.05, 0.05, 0.05],
+            phong_exponent: 32.0,
+            fresnel: Some(FresnelDesc {
+                min: 0.3,
+                max: 1.0,
+                exponent: 2.0,
+            }),
+        }],
+        objects: vec![ObjectDesc {
+            // Figure 13's object has no name: the first object block is `object1`.
+            name: "object1".into(),
+            kind: ObjectKind::Model,
+            material: "plane_material".into(),
+            file: Some("models/B-727-200.obj".into()),
+            radius: None,
+            half_extent: None,
+            scale: Some(Scale::Uniform(13.0)),
+            location: [0.0, 0.0, 420.0],
+            velocity: [-1000.0, 0.0, 0.0],
+            rotation: [0.0; 3],
+            angular_velocity: [0.0; 3],
+            hidden: false,
+        }],
+        instances: vec![],
+        groups: vec![],
+        lights: vec![],
+        camera: CameraDesc {
+            location: [400.0, 375.0, 800.0],
+            location_velocity: [-600.0, 0.0, 0.0],
+            look_at: [300.0, 350.0, 0.0],
+            look_at_velocity: [-800.0, 10.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            up_velocity: [0.0, 0.0, 0.005],
+            fov: 50.0,
+        },
+        settings: SettingsDesc {
+            start_time: -12.5,
+            frame_time: 0.12,
+            frames: 210,
+            fps: 30.0,
+            width: 768,
+            height: 768,
+            ambient_light: [0.7, 0.9, 1.0],
+            max_depth: 4,
+            environment: Some(EnvironmentDesc {
+                file: "data/CedarCity.hdr".into(),
+                intensity: 1.0,
+                rotation: 0.0,
+            }),
+            exposure: 1.0,
+            sampling: SamplingConfig {
+                point_set: "hammersley".into(),
+                spp: 64,
+                time_filter: "triangle".into(),
+                ..Default::default()
+            },
+        },
+    };
+    assert_eq!(scene, expected);
+}
+
+#[test]
+fn figure_13_renders_with_stand_ins_at_the_paths_it_names() {
+    let dir = figure13_folder("plane.scene");
+    let mut scene = Scene::load(&dir.path().join("plane.scene")).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    assert!(scene.has_motion() && scene.has_reflections());
+    scene.settings.width = 24;
+    scene.settings.height = 24;
+    // Frame 0: the stand-in airliner (52 x 13 x 52 at scale 13) is 4600 units ahead of the
+    // camera, about 14 degrees off its axis: far too small to cover a pixel at 24 x 24, so
+    // the frame is the sky map seen through the camera, reflected in nothing.
+    let cfg = SamplingConfig {
+        spp: 8,
+        ..scene.settings.sampling.clone()
+    };
+    for frame in [0, 104, 209] {
+        let (film, stats) = render_frame(&scene, &cfg, 1, frame, None).unwrap();
+        assert_eq!(stats.non_finite, 0);
+        let lum: Vec<f32> = film.pixels.iter().map(|p| p.x + p.y + p.z).collect();
+        assert!(
+            lum.iter().all(|v| v.is_finite() && *v > 0.0),
+            "frame {frame}"
+        );
+        let (lo, hi) = lum
+            .iter()
+            .fold((f32::MAX, 0.0f32), |(a, b), &v| (a.min(v), b.max(v)));
+        assert!(
+            hi > lo * 1.01,
+            "frame {frame}: the sky's gradient shows ({lo}..{hi})"
+        );
+    }
+}
+
+#[test]
+fn render_scene_renders_a_scene_file() {
+    let dir = figure13_folder("plane.scene");
+    let out = dir.path().join("frames");
+    let said = run(&[
+        "scene",
+        s(&dir.path().join("plane.scene")),
+        "--out",
+        s(&out),
+        "--spp",
+        "1",
+        "--frames",
+        "100..102",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--no-progress",
+    ]);
+    assert!(said.contains("2 frames of 8x8 at 1 spp"), "{said}");
+    for f in [100, 101] {
+        assert!(out.join(format!("frame_{f:04}.png")).is_file());
+    }
+}
+
+/// Figure 12's seven lines beside Figure 13's scene (named after the job), with extension
+/// lines that shrink it to 6 x 6 pixels and 2 frames: `render job` renders 48 stimuli, no
+/// independent reference, and each condition's 512-spp stimulus is its own reference.
+#[test]
+fn render_job_renders_figure_12_with_the_highest_level_as_ground_truth() {
+    let dir = figure13_folder("plane.scene");
+    let job = dir.path().join("plane.job");
+    let small = "\n# small for the test\nwidth 6\nheight 6\nframes 2\nfirstframe 3\n";
+    std::fs::write(&job, read("figure12.job") + small).unwrap();
+    let stimuli = dir.path().join("stimuli");
+    let said = run(&["job", s(&job), "--out", s(&stimuli), "--no-progress"]);
+    assert!(said.contains("(48 stimuli)"), "{said}");
+    let job_dir = stimuli.join("Plane_scene");
+    assert_eq!(
+        std::fs::read_to_string(job_dir.join("job.job")).unwrap(),
+        std::fs::read_to_string(&job).unwrap(),
+        "the job file is kept as given"
+    );
+    let m = Manifest::load(&job_dir).unwrap();
+    assert_eq!(m.stimuli.len(), 3 * 2 * 8);
+    assert!(m.stimuli.iter().all(|s| !s.reference && s.scene == "plane"));
+    for s in &m.stimuli {
+        let top = format!("plane-{}-{}-0512", s.point_set, s.time_filter);
+        assert_eq!(s.reference_id.as_deref(), Some(top.as_str()), "{}", s.id);
+        assert_eq!(s.own_reference(), s.spp == 512, "{}", s.id);
+        // Zero error by construction is not recorded; everything else is measured.
+        assert_eq!(s.error.is_none(), s.spp == 512, "{}", s.id);
+        // References keep linear frames to measure the other levels against.
+        assert_eq!(
+            s.exr_paths.len(),
+            if s.spp == 512 { 2 } else { 0 },
+            "{}",
+            s.id
+        );
+    }
+    let report = run(&[
+        "report",
+        s(&job_dir),
+        "--out",
+        s(&dir.path().join("report")),
+    ]);
+    assert!(report.contains("convergence.csv"), "{report}");
+    let csv = std::fs::read_to_string(dir.path().join("report/convergence.csv")).unwrap();
+    let own: Vec<&str> = csv.lines().filter(|l| l.ends_with(",true")).collect();
+    assert_eq!(own.len(), 6, "one own reference per condition:\n{csv}");
+    assert!(own.iter().all(|l| l.contains(",512,")), "{own:?}");
+    let slopes = std::fs::read_to_string(dir.path().join("report/convergence_slopes.csv")).unwrap();
+    for line in slopes.lines().skip(1) {
+        assert_eq!(
+            line.split(',').nth(3),
+            Some("7"),
+            "fitted on the 7 measured levels: {line}"
+        );
+    }
+}
+
+#[test]
+fn a_json_job_may_name_text_scenes_and_a_text_job_may_name_json_scenes() {
+    let dir = figure13_folder("plane.scene");
+    let d = dir.path();
+    run(&[
+        "convert",
+        s(&d.join("plane.scene")),
+        s(&d.join("plane.json")),
+    ]);
+    let json_job = d.join("j.json");
+    std::fs::write(
+        &json_job,
+        r#"{"format": "blurlab-job/1", "name": "j", "scenes": ["plane.scene"],
+            "levels": [1, 8], "point_sets": ["random"], "time_filters": ["box"],
+            "reference": {"spp": 27}, "seed": 3}"#,
+    )
+    .unwrap();
+    let text_job = d.join("t.job");
+    std::fs::write(
+        &text_job,
+        "t\n2\n1 8\n1\nrandom\n1\nfullbox\nscene plane.json\nreference 27\nseed 3\n\
+         pointsetscope scene\nshiftscope scene\n",
+    )
+    .unwrap();
+    let a = Job::load(&json_job).unwrap();
+    let b = Job::load(&text_job).unwrap();
+    assert_eq!(a.scenes[0].path, d.join("plane.scene"));
+    assert_eq!(b.scenes[0].path, d.join("plane.json"));
+    assert_eq!(
+        (&a.levels, &a.time_filters, &a.reference),
+        (&b.levels, &b.time_filters, &b.reference)
+    );
+    assert!(matches!(a.reference, Reference::Independent(_)));
+    // The same scene in either format renders the same pixels.
+    let sources_a = renderer::job::scene_source::load_sources(&a).unwrap();
+    let sources_b = renderer::job::scene_source::load_sources(&b).unwrap();
+    let sampling = SamplingConfig {
+        spp: 2,
+        ..Default::default()
+    };
+    let (fa, fb) = (
+        sources_a[0]
+            .resized(6, 6)
+            .unwrap()
+            .render(&sampling, 9, 40)
+            .unwrap(),
+        sources_b[0]
+            .resized(6, 6)
+            .unwrap()
+            .render(&sampling, 9, 40)
+            .unwrap(),
+    );
+    assert_eq!(fa.display, fb.display);
+    // --scene replaces a job's scenes.
+    let c = Job::load_with_scenes(&text_job, &[d.join("plane.scene")]).unwrap();
+    assert_eq!(c.scenes[0].path, d.join("plane.scene"));
+}
+
+#[test]
+fn the_figures_convert_to_json_and_back_without_loss() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (name, back) in [
+        ("figure13.scene", "back.scene"),
+        ("figure12.job", "back.job"),
+    ] {
+        let original = convert::read(&fixture(name)).unwrap();
+        std::fs::copy(fixture(name), d.join(name)).unwrap();
+        let json = d.join(format!("{name}.json"));
+        convert::convert(&d.join(name), &json).unwrap();
+        convert::convert(&json, &d.join(back)).unwrap();
+        let again = convert::read(&d.join(back)).unwrap();
+        assert_eq!(again, original, "{name}");
+    }
+    // Written back, Figure 13 keeps every line (numbers in shortest form: `1.0` is `1`), and
+    // adds the derived object name and a header comment.
+    let text = std::fs::read_to_string(d.join("back.scene")).unwrap();
+    let shortest = |line: &str| -> Vec<String> {
+        line.split_whitespace()
+            .map(|w| w.parse::<f32>().map_or(w.to_string(), |v| v.to_string()))
+            .collect()
+    };
+    let written: Vec<Vec<String>> = text.lines().map(shortest).collect();
+    for line in read("figure13.scene").lines().filter(|l| !l.is_empty()) {
+        assert!(written.contains(&shortest(line)), "lost `{line}`:\n{text}");
+    }
+    assert!(text.contains("\nobjectname object1\n"), "{text}");
+    let job = std::fs::read_to_string(d.join("back.job")).unwrap();
+    let seven: Vec<&str> = job
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .take(7)
+        .collect();
+    assert_eq!(seven.join("\n") + "\n", read("figure12.job"));
+}
+
+#[test]
+fn the_suites_json_files_convert_to_text_and_back_identically() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let mut files: Vec<PathBuf> = Vec::new();
+    for sub in ["", "jobs", "thesis"] {
+        let Ok(entries) = std::fs::read_dir(root.join(sub)) else {
+            continue;
+        };
+        files.extend(
+            entries
+                .flatten()
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|e| e == "json")),
+        );
+    }
+    assert!(files.len() >= 4, "{files:?}");
+    for path in files {
+        let doc = convert::read(&path).unwrap();
+        let text_path = path.with_extension(match doc {
+            Document::Scene(_) => "scene",
+            Document::Job(_) => "job",
+        });
+        let text = convert::text(&doc, &text_path).unwrap();
+        let back = match &doc {
+            Document::Scene(_) => Document::Scene(block_format::read(&text, &text_path).unwrap().0),
+            Document::Job(_) => Document::Job(line_format::read(&text, &text_path).unwrap().0),
+        };
+        assert_eq!(back, doc, "{}", path.display());
+        let json = |d: &Document| match d {
+            Document::Scene(s) => convert::json(s).unwrap(),
+            Document::Job(j) => convert::json(j).unwrap(),
+        };
+        assert_eq!(json(&back), json(&doc), "{}", path.display());
+    }
+}
+
+// Round trips of arbitrary models: model -> text -> model is the identity, and so is
+// model -> JSON -> model -> text, so JSON -> text -> JSON is identical and text -> JSON -> text
+// reads back to the same model.
+
+fn finite() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        any::<f32>().prop_filter("finite", |v| v.is_finite()),
+        Just(0.0),
+        Just(-0.0),
+        (-1000i32..1000).prop_map(|v| v as f32 / 8.0),
+    ]
+}
+
+fn v3() -> impl Strategy<Value = [f32; 3]> {
+    [finite(), finite(), finite()]
+}
+
+fn word() -> impl Strategy<Value = String> {
+    prop_oneof![
+        any::<String>(),
+        "[a-z_0-9]{1,8}",
+        Just(String::new()),
+        Just("a b#\"c\\".into())
+    ]
+}
+
+fn scale() -> impl Strategy<Value = Option<Scale>> {
+    prop::option::of(prop_oneof![
+        finite().prop_map(Scale::Uniform),
+        v3().prop_map(Scale::PerAxis)
+    ])
+}
+
+fn material() -> impl Strategy<Value = MaterialDesc> {
+    (
+        word(),
+        v3(),
+        v3(),
+        v3(),
+        finite(),
+        prop::option::of((finite(), finite(), finite())),
+    )
+        .prop_map(
+            |(name, diffuse, specular, ambient, phong_exponent, fr)| MaterialDesc {
+                name,
+                diffuse,
+                specular,
+                ambient,
+                phong_exponent,
+                fresnel: fr.map(|(min, max, exponent)| FresnelDesc { min, max, exponent }),
+            },
+        )
+}
+
+/// Location, velocity, rotation, angular velocity, scale.
+type Placement = ([f32; 3], [f32; 3], [f32; 3], [f32; 3], Option<Scale>);
+
+fn placement() -> impl Strategy<Value = Placement> {
+    (v3(), v3(), v3(), v3(), scale())
+}
+
+fn object() -> impl Strategy<Value = ObjectDesc> {
+    (
+        word(),
+        prop_oneof![
+            Just(ObjectKind::Model),
+            Just(ObjectKind::Sphere),
+            Just(ObjectKind::Plane)
+        ],
+        word(),
+        prop::option::of(word()),
+        prop::option::of(finite()),
+        prop::option::of([finite(), finite()]),
+        placement(),
+        any::<bool>(),
+    )
+        .prop_map(
+            |(name, kind, material, file, radius, half_extent, p, hidden)| ObjectDesc {
+                name,
+                kind,
+                material,
+                file,
+                radius,
+                half_extent,
+                scale: p.4,
+                location: p.0,
+                velocity: p.1,
+                rotation: p.2,
+                angular_velocity: p.3,
+                hidden,
+            },
+        )
+}
+
+fn instance() -> impl Strategy<Value = InstanceDesc> {
+    (word(), word(), prop::option::of(word()), placement()).prop_map(
+        |(name, object, material, p)| InstanceDesc {
+            name,
+            object,
+            material,
+            scale: p.4,
+            location: p.0,
+            velocity: p.1,
+            rotation: p.2,
+            angular_velocity: p.3,
+        },
+    )
+}
+
+fn group() -> impl Strategy<Value = GroupDesc> {
+    (word(), prop::collection::vec(word(), 0..3), placement()).prop_map(|(name, children, p)| {
+        GroupDesc {
+            name,
+            children,
+            scale: p.4,
+            location: p.0,
+            velocity: p.1,
+            rotation: p.2,
+            angular_velocity: p.3,
+        }
+    })
+}
+
+fn light() -> impl Strategy<Value = LightDesc> {
+    (
+        prop_oneof![Just(LightKind::Point), Just(LightKind::Directional)],
+        v3(),
+        finite(),
+        prop::option::of(v3()),
+        prop::option::of(v3()),
+    )
+        .prop_map(|(kind, color, intensity, position, direction)| LightDesc {
+            kind,
+            color,
+            intensity,
+            position,
+            direction,
+        })
+}
+
+fn point_set() -> impl Strategy<Value = String> {
+    prop::sample::select(
+        renderer::sampling::pointset::ALL
+            .iter()
+            .map(|s| s.name().to_string())
+            .collect::<Vec<_>>(),
+    )
+}
+
+fn time_filter() -> impl Strategy<Value = String> {
+    prop::sample::select(
+        renderer::sampling::TimeFilter::ALL
+            .iter()
+            .map(|f| f.name().to_string())
+            .collect::<Vec<_>>(),
+    )
+}
+
+fn scope() -> impl Strategy<Value = Option<Scope>> {
+    prop::option::of(prop_oneof![Just(Scope::Frame), Just(Scope::Sequence)])
+}
+
+fn options() -> impl Strategy<Value = SamplingOptions> {
+    (
+        prop::option::of(prop_oneof![
+            Just(SpatialFilter::Gaussian),
+            Just(SpatialFilter::Box)
+        ]),
+        prop::option::of(any::<f64>().prop_filter("finite", |v| v.is_finite())),
+        prop::option::of(prop_oneof![
+            Just(Density::Joint),
+            any::<u32>().prop_map(Density::Temporal),
+            any::<u32>().prop_map(Density::Spatial)
+        ]),
+        scope(),
+        scope(),
+    )
+        .prop_map(
+            |(spatial_filter, spatial_sigma, density, point_set_scope, shift_scope)| {
+                SamplingOptions {
+                    spatial_filter,
+                    spatial_sigma,
+                    density,
+                    point_set_scope,
+                    shift_scope,
+                }
+            },
+        )
+}
+
+fn settings() -> impl Strategy<Value = SettingsDesc> {
+    (
+        (
+            finite(),
+            finite(),
+            any::<u32>(),
+            any::<f64>().prop_filter("finite", |v| v.is_finite()),
+        ),
+        (any::<u32>(), any::<u32>(), v3(), any::<u32>(), finite()),
+        prop::option::of((word(), finite(), finite())),
+        (point_set(), any::<u32>(), time_filter(), options()),
+    )
+        .prop_map(|(t, size, env, sampling)| SettingsDesc {
+            start_time: t.0,
+            frame_time: t.1,
+            frames: t.2,
+            fps: t.3,
+            width: size.0,
+            height: size.1,
+            ambient_light: size.2,
+            max_depth: size.3,
+            exposure: size.4,
+            environment: env.map(|(file, intensity, rotation)| EnvironmentDesc {
+                file,
+                intensity,
+                rotation,
+            }),
+            sampling: SamplingConfig {
+                point_set: sampling.0,
+                spp: sampling.1,
+                time_filter: sampling.2,
+                ..Default::default()
+            }
+            .with_options(&sampling.3),
+        })
+}
+
+fn scene_file() -> impl Strategy<Value = SceneFile> {
+    (
+        prop::option::of(word()),
+        prop::option::of(word()),
+        prop::collection::vec(material(), 0..3),
+        prop::collection::vec(object(), 0..3),
+        prop::collection::vec(instance(), 0..2),
+        prop::collection::vec(group(), 0..2),
+        prop::collection::vec(light(), 0..2),
+        (v3(), v3(), v3(), v3(), v3(), v3(), finite()),
+        settings(),
+    )
+        .prop_map(
+            |(name, description, materials, objects, instances, groups, lights, c, settings)| {
+                SceneFile {
+                    format: SCENE_FORMAT.into(),
+                    name,
+                    description,
+                    materials,
+                    objects,
+                    instances,
+                    groups,
+                    lights,
+                    camera: CameraDesc {
+                        location: c.0,
+                        location_velocity: c.1,
+                        look_at: c.2,
+                        look_at_velocity: c.3,
+                        up: c.4,
+                        up_velocity: c.5,
+                        fov: c.6,
+                    },
+                    settings,
+                }
+            },
+        )
+}
+
+fn job_file() -> impl Strategy<Value = JobFile> {
+    (
+        word(),
+        prop::collection::vec(word(), 1..3),
+        prop::collection::vec(any::<u32>(), 1..5),
+        prop::collection::vec(point_set(), 1..4),
+        prop::collection::vec(time_filter(), 1..3),
+        prop_oneof![
+            Just(ReferenceSpec::HighestLevel),
+            (
+                any::<u32>(),
+                prop::option::of(point_set()),
+                prop::option::of(time_filter())
+            )
+                .prop_map(|(spp, point_set, time_filter)| ReferenceSpec::Independent(
+                    IndependentReference {
+                        spp,
+                        point_set,
+                        time_filter
+                    }
+                ))
+        ],
+        any::<u64>(),
+        (
+            prop::option::of(any::<u32>()),
+            prop::option::of(any::<u32>()),
+            prop::option::of(any::<u32>()),
+            prop::option::of(any::<u32>()),
+            prop::option::of(any::<bool>()),
+            options(),
+        ),
+        prop::option::of(any::<u32>()),
+    )
+        .prop_map(
+            |(name, scenes, levels, point_sets, time_filters, reference, seed, o, fpu)| JobFile {
+                format: JOB_FORMAT.into(),
+                name,
+                scenes,
+                levels,
+                point_sets,
+                time_filters,
+                reference,
+                seed,
+                overrides: Overrides {
+                    width: o.0,
+                    height: o.1,
+                    frames: o.2,
+                    first_frame: o.3,
+                    exr: o.4,
+                    sampling: o.5,
+                },
+                frames_per_unit: fpu,
+            },
+        )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    #[test]
+    fn scenes_round_trip(scene in scene_file()) {
+        let path = Path::new("p.scene");
+        let text = block_format::write(&scene).unwrap();
+        let (back, _) = block_format::read(&text, path).unwrap();
+        prop_assert_eq!(&back, &scene);
+        prop_assert_eq!(block_format::write(&back).unwrap(), text, "the writer is deterministic");
+        let json = convert::json(&scene).unwrap();
+        let from_json: SceneFile = serde_json::from_str(&json).unwrap();
+        let again = block_format::read(&block_format::write(&from_json).unwrap(), path).unwrap().0;
+        prop_assert_eq!(convert::json(&again).unwrap(), convert::json(&from_json).unwrap());
+    }
+
+    #[test]
+    fn jobs_round_trip(job in job_file()) {
+        let path = Path::new("p.job");
+        let text = line_format::write(&job).unwrap();
+        let (back, _) = line_format::read(&text, path).unwrap();
+        prop_assert_eq!(&back, &job);
+        prop_assert_eq!(line_format::write(&back).unwrap(), text, "the writer is deterministic");
+        let json = convert::json(&job).unwrap();
+        let from_json: JobFile = serde_json::from_str(&json).unwrap();
+        let again = line_format::read(&line_format::write(&from_json).unwrap(), path).unwrap().0;
+        prop_assert_eq!(convert::json(&again).unwrap(), json);
+    }
+}
