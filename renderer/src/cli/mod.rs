@@ -2,6 +2,7 @@
 //! umbrella command both call [`run`].
 
 pub mod assets;
+pub mod converge;
 pub mod export;
 pub mod job;
 pub mod pointsets;
@@ -24,6 +25,8 @@ pub enum RenderCommand {
     Assets(assets::AssetsArgs),
     /// Render a scene's frames (scenes/*.json) into a folder of PNG (and EXR) files.
     Scene(scene::SceneArgs),
+    /// Whether a scene's stimuli converge: every level against a 4x render, as display frames.
+    Converge(converge::ConvergeArgs),
     /// Measure a point set (discrepancy, spacing) and plot its 2D projections (thesis Figure 4).
     Pointsets(pointsets::PointsetsArgs),
 }
@@ -37,5 +40,6 @@ pub fn run(cmd: RenderCommand) -> Result<()> {
         RenderCommand::Assets(a) => assets::run(a),
         RenderCommand::Scene(a) => scene::run(a),
         RenderCommand::Pointsets(a) => pointsets::run(a),
+        RenderCommand::Converge(a) => converge::run(a),
     }
 }
