@@ -15,7 +15,7 @@ const SIZE: u32 = 96;
 const SPP: u32 = 8;
 
 fn scene(name: &str) -> (Scene, u32) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenes/{name}.json"));
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenes/thesis/{name}.json"));
     let mut s = Scene::load(&path).expect("scene loads");
     s.settings.width = SIZE;
     s.settings.height = SIZE;

@@ -15,7 +15,7 @@ fn scenes_dir() -> PathBuf {
 
 #[test]
 fn the_suites_scenes_load_and_render_without_nan() {
-    for name in ["plane", "spheres", "static"] {
+    for name in ["thesis/plane", "thesis/spheres", "static"] {
         let path = scenes_dir().join(format!("{name}.json"));
         let mut scene = Scene::load(&path).unwrap();
         assert!(scene.warnings.is_empty(), "{name}: {:?}", scene.warnings);

@@ -4,7 +4,8 @@ use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
 
-/// Write scenes/models/airliner.obj and scenes/envmaps/*.hdr from the procedural generators.
+/// Write the stand-ins scenes/thesis/models/B-727-200.obj and scenes/thesis/data/CedarCity.hdr
+/// from the procedural generators.
 #[derive(Debug, Args)]
 pub struct AssetsArgs {
     /// The scenes folder.

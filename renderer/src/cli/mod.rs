@@ -2,6 +2,7 @@
 //! umbrella command both call [`run`].
 
 pub mod assets;
+pub mod converge;
 pub mod convert;
 pub mod export;
 pub mod job;
@@ -29,6 +30,8 @@ pub enum RenderCommand {
     Scene(scene::SceneArgs),
     /// Convert a scene or job between JSON and the thesis's text formats (.scene, .job).
     Convert(convert::ConvertArgs),
+    /// Whether a scene's stimuli converge: every level against a 4x render, as display frames.
+    Converge(converge::ConvergeArgs),
     /// Measure a point set (discrepancy, spacing) and plot its 2D projections (thesis Figure 4).
     Pointsets(pointsets::PointsetsArgs),
 }
@@ -43,5 +46,6 @@ pub fn run(cmd: RenderCommand) -> Result<()> {
         RenderCommand::Scene(a) => scene::run(a),
         RenderCommand::Pointsets(a) => pointsets::run(a),
         RenderCommand::Convert(a) => convert::run(a),
+        RenderCommand::Converge(a) => converge::run(a),
     }
 }

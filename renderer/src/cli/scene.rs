@@ -12,7 +12,7 @@ use std::path::PathBuf;
 /// .scene) to DIR/frame_NNNN.png.
 #[derive(Debug, Args)]
 pub struct SceneArgs {
-    /// The scene file, e.g. scenes/plane.json or a thesis .scene.
+    /// The scene file, e.g. scenes/thesis/plane.json or a thesis .scene.
     pub scene: PathBuf,
     /// Output folder (created if needed).
     #[arg(long)]

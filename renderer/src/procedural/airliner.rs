@@ -1,12 +1,34 @@
-//! A procedural airliner-like mesh (fuselage, swept wings, tailplane, fin, two engines), the
-//! stand-in for the thesis's Boeing 727 model. Units are metres: about 40 m long and 36 m
-//! across the wings, nose towards -x (the direction it flies in the `plane` scene), up +y,
-//! wings along z, origin at the fuselage's centre.
+//! The stand-in for the thesis's `models/B-727-200.obj` (Figure 13): a procedural trijet with
+//! a Boeing 727-200's outline — low swept wing, three engines at the rear (two in pods on the
+//! fuselage's sides, one in the tail fed by an intake ahead of the fin) and a T-tail — at the
+//! 727-200's published size: 46.69 m long, 32.92 m span, 10.36 m high (the height is the
+//! aircraft standing on its gear; the gear is not modelled, so the mesh's height is the fuselage
+//! bottom to the tailplane's top).
+//!
+//! The aircraft is built in metres ([`airliner`]); the committed OBJ ([`b727_obj`]) is in the
+//! units Figure 13's `scale 13` needs for a scene measured in feet (one model unit = 13 ft), with
+//! the fuselage's axis at model height 350 / 13, so that at `location 0 0 420` it flies at
+//! y = 350, the height the camera looks at (`scenes/README.md` explains both choices). Nose
+//! towards -x (the direction it flies in), up +y, wings along z.
 
 use glam::Vec3;
 use std::f32::consts::TAU;
 use std::fmt::Write;
 
+/// The 727-200's overall length, wing span and height, metres.
+pub const LENGTH_M: f32 = 46.69;
+pub const SPAN_M: f32 = 32.92;
+pub const HEIGHT_M: f32 = 10.36;
+
+/// Feet per metre (international foot, 0.3048 m).
+pub const FEET_PER_METRE: f32 = 1.0 / 0.3048;
+/// Figure 13's `scale` for the model.
+pub const FIGURE_13_SCALE: f32 = 13.0;
+/// Height of the fuselage's axis in model units: world y = 350 at `scale 13`.
+pub const AXIS_HEIGHT_MODEL: f32 = 350.0 / FIGURE_13_SCALE;
+
+/// Fuselage radius (the 727's fuselage is 3.76 m across).
+const FUSELAGE_R: f32 = 1.88;
 /// A triangle mesh with one normal per vertex.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
@@ -63,17 +85,17 @@ impl Mesh {
 
 /// Radius and centre height of the fuselage at a fraction `s` in [0, 1] from nose to tail.
 fn fuselage_section(s: f32) -> (f32, f32) {
-    const R: f32 = 1.9;
-    if s < 0.12 {
-        // Elliptic nose.
-        let a = s / 0.12;
+    const R: f32 = FUSELAGE_R;
+    if s < 0.11 {
+        // Elliptic nose, its tip a little below the axis.
+        let a = s / 0.11;
         (R * (1.0 - (1.0 - a) * (1.0 - a)).sqrt(), -0.3 * (1.0 - a))
-    } else if s < 0.72 {
+    } else if s < 0.74 {
         (R, 0.0)
     } else {
-        // Tail cone, tapering and rising towards the fin.
-        let a = (s - 0.72) / 0.28;
-        (R * (1.0 - 0.8 * a), 1.2 * a * a)
+        // Tail cone rising to the centre engine's exhaust under the fin.
+        let a = (s - 0.74) / 0.26;
+        (R * (1.0 - 0.6 * a), 0.9 * a * a)
     }
 }
 
@@ -180,74 +202,140 @@ fn panel(mesh: &mut Mesh, p: Panel) {
     }
 }
 
-/// The airliner. `segments` sets the roundness of fuselage and engines (24 is smooth at
-/// stimulus sizes).
+/// A nacelle's profile: a rounded tube of radius `r` whose axis is at height `y`.
+fn nacelle(r: f32, y: f32) -> impl Fn(f32) -> (f32, f32) {
+    move |s: f32| {
+        (
+            r * (1.0 - (2.0 * s - 1.0).powi(6)).max(0.0).sqrt().max(0.05),
+            y,
+        )
+    }
+}
+
+/// The airliner in metres, nose at x = -L/2, fuselage axis on y = 0. `segments` sets the
+/// roundness of fuselage and engines (24 is smooth at stimulus sizes).
 pub fn airliner(segments: usize) -> Mesh {
     let segments = segments.max(3);
+    let half = 0.5 * LENGTH_M;
     let mut m = Mesh::default();
-    lathe(&mut m, -20.0, 20.0, 48, segments, fuselage_section, 0.0);
+    lathe(&mut m, -half, half, 48, segments, fuselage_section, 0.0);
     for side in [-1.0f32, 1.0] {
-        // Main wing: low on the fuselage, swept back, slight dihedral.
+        // Main wing: low on the fuselage, leading edge swept 35° (32° at quarter chord),
+        // 3° dihedral, tip at half the span.
+        let reach = 0.5 * SPAN_M - 1.7;
         panel(
             &mut m,
             Panel {
-                root: Vec3::new(-4.0, -0.9, side * 1.6),
-                span: Vec3::new(0.0, 1.0, side * 16.5),
-                sweep: 9.0,
-                root_chord: 7.5,
-                tip_chord: 2.2,
-                thickness: 0.45,
-                normal: Vec3::new(0.0, 1.0, -side * 0.06).normalize(),
-            },
-        );
-        // Tailplane.
-        panel(
-            &mut m,
-            Panel {
-                root: Vec3::new(14.5, 0.9, side * 0.5),
-                span: Vec3::new(0.0, 0.4, side * 6.0),
-                sweep: 3.5,
-                root_chord: 3.5,
-                tip_chord: 1.3,
-                thickness: 0.25,
+                root: Vec3::new(-6.0, -1.0, side * 1.7),
+                span: Vec3::new(0.0, reach * 3f32.to_radians().tan(), side * reach),
+                sweep: reach * 35f32.to_radians().tan(),
+                root_chord: 8.5,
+                tip_chord: 2.0,
+                thickness: 0.5,
                 normal: Vec3::Y,
             },
         );
-        // Engine nacelle under the wing.
-        let nacelle = |s: f32| {
-            let r = 1.05 * (1.0 - (2.0 * s - 1.0).powi(6)).max(0.0).sqrt().max(0.05);
-            (r, -2.0)
-        };
-        lathe(&mut m, -5.5, -0.5, 8, segments, nacelle, side * 6.5);
+        // Side engines in pods on the rear fuselage, each on a short stub.
+        lathe(
+            &mut m,
+            10.5,
+            17.0,
+            8,
+            segments,
+            nacelle(0.95, 0.8),
+            side * 3.15,
+        );
+        panel(
+            &mut m,
+            Panel {
+                root: Vec3::new(12.0, 0.8, side * 1.2),
+                span: Vec3::new(0.0, 0.0, side * 1.2),
+                sweep: 0.6,
+                root_chord: 3.4,
+                tip_chord: 2.8,
+                thickness: 0.35,
+                normal: Vec3::Y,
+            },
+        );
+        // Tailplane on top of the fin (the T-tail), 10.9 m across.
+        panel(
+            &mut m,
+            Panel {
+                root: Vec3::new(18.6, 7.25, 0.0),
+                span: Vec3::new(0.0, 0.0, side * 5.45),
+                sweep: 3.0,
+                root_chord: 3.3,
+                tip_chord: 1.4,
+                thickness: 0.3,
+                normal: Vec3::Y,
+            },
+        );
     }
-    // Fin.
+    // Centre engine: its intake on the fuselage's back ahead of the fin (the exhaust is the
+    // tail cone's end).
+    lathe(
+        &mut m,
+        10.0,
+        14.5,
+        8,
+        segments,
+        nacelle(0.8, FUSELAGE_R + 0.35),
+        0.0,
+    );
+    // Fin, leading edge swept back over 7.5 m, carrying the tailplane at its tip.
     panel(
         &mut m,
         Panel {
-            root: Vec3::new(13.0, 1.3, 0.0),
-            span: Vec3::new(0.0, 7.0, 0.0),
-            sweep: 4.5,
-            root_chord: 5.5,
-            tip_chord: 2.0,
-            thickness: 0.3,
+            root: Vec3::new(11.5, 1.4, 0.0),
+            span: Vec3::new(0.0, 5.85, 0.0),
+            sweep: 7.3,
+            root_chord: 8.0,
+            tip_chord: 3.3,
+            thickness: 0.35,
             normal: Vec3::Z,
         },
     );
     m
 }
 
-/// The committed `scenes/models/airliner.obj`.
-pub fn airliner_obj() -> String {
-    airliner(24).to_obj(
-        "airliner.obj: procedural airliner-like model generated by blurlab \
+/// The mesh in the units Figure 13 needs: metres to feet, divided by the scale 13, the
+/// fuselage's axis raised to [`AXIS_HEIGHT_MODEL`].
+pub fn in_figure_13_units(mut m: Mesh) -> Mesh {
+    let k = FEET_PER_METRE / FIGURE_13_SCALE;
+    for p in &mut m.positions {
+        *p = *p * k + Vec3::Y * AXIS_HEIGHT_MODEL;
+    }
+    m
+}
+
+/// The committed `scenes/thesis/models/B-727-200.obj`.
+pub fn b727_obj() -> String {
+    in_figure_13_units(airliner(24)).to_obj(
+        "B-727-200.obj: stand-in for the thesis's Boeing 727-200 model, generated by blurlab \
          (renderer::procedural::airliner); regenerate with `render assets`.\n\
-         Units: metres. Nose towards -x, up +y, wings along z. Licence: same as blurlab.",
+         A trijet with a 727-200's outline and size (46.69 m long, 32.92 m span, 10.36 m high \
+         on its gear).\n\
+         Units: 13 ft per model unit (Figure 13 scales it by 13 into a scene in feet); \
+         fuselage axis at y = 350/13.\n\
+         Nose towards -x, up +y, wings along z. Licence: same as blurlab.",
     )
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn bounds(m: &Mesh) -> (Vec3, Vec3) {
+        let lo = m
+            .positions
+            .iter()
+            .fold(Vec3::splat(f32::MAX), |a, &p| a.min(p));
+        let hi = m
+            .positions
+            .iter()
+            .fold(Vec3::splat(f32::MIN), |a, &p| a.max(p));
+        (lo, hi)
+    }
 
     #[test]
     fn mesh_is_finite_and_indices_are_valid() {
@@ -260,20 +348,39 @@ mod tests {
     }
 
     #[test]
-    fn proportions_are_an_airliners() {
-        let m = airliner(12);
-        let lo = m
-            .positions
-            .iter()
-            .fold(Vec3::splat(f32::MAX), |a, &p| a.min(p));
-        let hi = m
-            .positions
-            .iter()
-            .fold(Vec3::splat(f32::MIN), |a, &p| a.max(p));
+    fn size_is_a_727_200s() {
+        // Length and span as published; the height as published less the gear (the
+        // fuselage's bottom stands about 1.1 m above the ground on a 727).
+        let (lo, hi) = bounds(&airliner(24));
         let size = hi - lo;
-        assert!((size.x - 40.0).abs() < 0.5, "length {}", size.x);
-        assert!(size.z > 30.0 && size.z < 40.0, "span {}", size.z);
-        assert!(size.y > 8.0 && size.y < 12.0, "height {}", size.y);
+        assert!(
+            (size.x - LENGTH_M).abs() < 0.01 * LENGTH_M,
+            "length {}",
+            size.x
+        );
+        assert!((size.z - SPAN_M).abs() < 0.01 * SPAN_M, "span {}", size.z);
+        let gear = HEIGHT_M - size.y;
+        assert!(gear > 0.8 && gear < 1.4, "height {}", size.y);
+        // Symmetric about the fuselage's vertical plane.
+        assert!((lo.z + hi.z).abs() < 1e-3);
+    }
+
+    #[test]
+    fn figure_13_units_give_feet_at_scale_13_with_the_axis_at_350() {
+        let m = in_figure_13_units(airliner(24));
+        let (lo, hi) = bounds(&m);
+        let feet = (hi.x - lo.x) * FIGURE_13_SCALE;
+        // 153 ft 2 in.
+        assert!((feet - 153.17).abs() < 0.02 * 153.17, "{feet} ft");
+        let nose = m
+            .positions
+            .iter()
+            .copied()
+            .min_by(|a, b| a.x.total_cmp(&b.x))
+            .unwrap();
+        // The nose sits just below the axis (the elliptic nose droops 0.3 m).
+        let axis_ft = (nose.y * FIGURE_13_SCALE) + 0.3 * FEET_PER_METRE;
+        assert!((axis_ft - 350.0).abs() < 0.1, "{axis_ft}");
     }
 
     #[test]
@@ -294,7 +401,7 @@ mod tests {
 
     #[test]
     fn obj_text_is_stable() {
-        assert_eq!(airliner_obj(), airliner_obj());
-        assert!(airliner_obj().starts_with("# airliner.obj"));
+        assert_eq!(b727_obj(), b727_obj());
+        assert!(b727_obj().starts_with("# B-727-200.obj"));
     }
 }

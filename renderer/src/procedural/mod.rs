@@ -1,6 +1,7 @@
-//! Assets made by the project's own code: the airliner model and the sky environment maps the
-//! suite's scenes use. `render assets` writes them into `scenes/`; a test checks that the
-//! committed files equal what this code produces.
+//! Assets made by the project's own code: the stand-ins for the thesis's airliner model and
+//! environment map (Figure 13's `models/B-727-200.obj` and `data/CedarCity.hdr`, at those paths
+//! beside the thesis scenes). `render assets` writes them into `scenes/`; a test checks that
+//! the committed files equal what this code produces.
 
 pub mod airliner;
 pub mod sky;
@@ -18,16 +19,12 @@ pub struct Asset {
 pub fn assets() -> Result<Vec<Asset>> {
     Ok(vec![
         Asset {
-            path: "models/airliner.obj",
-            bytes: airliner::airliner_obj().into_bytes(),
+            path: "thesis/models/B-727-200.obj",
+            bytes: airliner::b727_obj().into_bytes(),
         },
         Asset {
-            path: "envmaps/sky_day.hdr",
-            bytes: sky::hdr_bytes(&sky::SkyParams::day())?,
-        },
-        Asset {
-            path: "envmaps/sky_sun.hdr",
-            bytes: sky::hdr_bytes(&sky::SkyParams::bright_sun())?,
+            path: "thesis/data/CedarCity.hdr",
+            bytes: sky::hdr_bytes(&sky::SkyParams::cedar_city())?,
         },
     ])
 }

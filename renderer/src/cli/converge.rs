@@ -1,0 +1,182 @@
+//! `render converge <scene> [--levels ...] [--frames ...]`: whether a scene's stimuli converge
+//! in display space (`crate::display_convergence`): the table, a verdict per point set, and
+//! optionally a contact sheet and CSV.
+
+use crate::contact_sheet::{self, Rect, Tile};
+use crate::display_convergence::{self as dc, Criterion, Plan};
+use crate::scene::Scene;
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+
+/// Render a scene's levels on a few frames and compare them, as display frames, with a
+/// high-density render: does the error fall at every level, by 4x, and leave no speckles?
+#[derive(Debug, Args)]
+pub struct ConvergeArgs {
+    /// The scene file, e.g. scenes/thesis/spheres.json.
+    pub scene: PathBuf,
+    /// Sampling levels (spp), increasing.
+    #[arg(long, value_delimiter = ',', default_values_t = dc::THESIS_LEVELS)]
+    pub levels: Vec<u32>,
+    /// Point sets to measure.
+    #[arg(long, value_delimiter = ',', default_values_t = ["hammersley".to_string(), "stratified".into(), "poisson".into()])]
+    pub point_sets: Vec<String>,
+    /// Time filter of every render (the thesis's study used the truncated box).
+    #[arg(long, default_value = "truncated_box")]
+    pub time_filter: String,
+    /// Samples per pixel of the reference [default: 4 x the highest level].
+    #[arg(long)]
+    pub reference_spp: Option<u32>,
+    /// Point set of the reference.
+    #[arg(long, default_value = "sobol")]
+    pub reference_point_set: String,
+    /// Scene frames to compare [default: four spread over the animation].
+    #[arg(long, value_delimiter = ',')]
+    pub frames: Vec<u32>,
+    /// Image width in pixels (default: the scene's).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels (default: the scene's).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Master seed of the levels (the reference's is derived from it).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// A pixel differs when a channel is more than this many levels (of 255) off.
+    #[arg(long, default_value_t = 32)]
+    pub threshold: u8,
+    /// Write a contact sheet (PNG): one frame at every level of one point set, then the reference.
+    #[arg(long)]
+    pub sheet: Option<PathBuf>,
+    /// The sheet's frame [default: the first compared].
+    #[arg(long)]
+    pub sheet_frame: Option<u32>,
+    /// The sheet's point set [default: the first measured].
+    #[arg(long)]
+    pub sheet_point_set: Option<String>,
+    /// Show only this part of the frame on the sheet: x,y,width,height in pixels.
+    #[arg(long)]
+    pub sheet_crop: Option<Rect>,
+    /// Tiles per row of the sheet.
+    #[arg(long, default_value_t = 4)]
+    pub sheet_columns: usize,
+    /// Also write the rows as CSV.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Exit with an error when a point set does not converge.
+    #[arg(long)]
+    pub check: bool,
+    /// Hide the progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+pub fn run(args: ConvergeArgs) -> Result<()> {
+    let mut scene = Scene::load(&args.scene)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    for (flag, v) in [("--width", args.width), ("--height", args.height)] {
+        if v == Some(0) {
+            bail!("{flag} must be at least 1");
+        }
+    }
+    let s = &mut scene.settings;
+    s.width = args.width.unwrap_or(s.width);
+    s.height = args.height.unwrap_or(s.height);
+    let n = s.frames;
+    let frames = if args.frames.is_empty() {
+        (0..4).map(|k| n * (2 * k + 1) / 8).collect()
+    } else {
+        args.frames.clone()
+    };
+    let top = args.levels.iter().copied().max().unwrap_or(1);
+    let plan = Plan {
+        levels: args.levels.clone(),
+        point_sets: args.point_sets.clone(),
+        time_filter: args.time_filter.clone(),
+        reference_point_set: args.reference_point_set.clone(),
+        reference_spp: args.reference_spp.unwrap_or(4 * top),
+        frames,
+        seed: args.seed,
+        threshold: args.threshold,
+    };
+    let sheet_frame = args.sheet_frame.unwrap_or(plan.frames[0]);
+    if args.sheet.is_some() && !plan.frames.contains(&sheet_frame) {
+        bail!(
+            "--sheet-frame {sheet_frame} is not among the compared frames {:?}",
+            plan.frames
+        );
+    }
+    let sheet_set = args
+        .sheet_point_set
+        .clone()
+        .unwrap_or_else(|| plan.point_sets[0].clone());
+    let bar = (!args.no_progress).then(|| {
+        let b = ProgressBar::new(dc::samples(&scene, &plan));
+        b.set_style(
+            ProgressStyle::with_template("{bar:40} {percent}% samples, {elapsed} (eta {eta})")
+                .expect("valid template"),
+        );
+        b
+    });
+    let mut tiles: Vec<Result<Tile>> = Vec::new();
+    let mut reference_tile = None;
+    let rows = dc::measure(&scene, &plan, bar.as_ref(), |r| {
+        if args.sheet.is_none() || r.frame != sheet_frame {
+            return;
+        }
+        let label = match r.point_set {
+            None => format!("{} spp {} (reference)", r.spp, plan.reference_point_set),
+            Some(ps) if ps == sheet_set => format!("{} spp {ps}", r.spp),
+            Some(_) => return,
+        };
+        let tile = Tile::cut(label, r.display, r.width, r.height, args.sheet_crop);
+        match r.point_set {
+            None => reference_tile = Some(tile),
+            Some(_) => tiles.push(tile),
+        }
+    })?;
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let verdicts = dc::judge(&rows, &Criterion::thesis());
+    println!(
+        "{}: {} x {}, frames {:?}, time filter {}, against {} spp {}, seed {}\n",
+        args.scene.display(),
+        scene.settings.width,
+        scene.settings.height,
+        plan.frames,
+        plan.time_filter,
+        plan.reference_spp,
+        plan.reference_point_set,
+        plan.seed
+    );
+    print!("{}", dc::markdown(&rows, &verdicts, &plan));
+    if let Some(path) = &args.csv {
+        write_csv(path, &rows)?;
+    }
+    if let Some(path) = &args.sheet {
+        let mut all = tiles.into_iter().collect::<Result<Vec<_>>>()?;
+        all.push(reference_tile.context("the reference frame was not rendered")??);
+        contact_sheet::write(path, &all, args.sheet_columns)?;
+        println!("\ncontact sheet: {}", path.display());
+    }
+    if args.check && verdicts.iter().any(|v| !v.pass) {
+        bail!(
+            "{} does not converge (see the table above)",
+            args.scene.display()
+        );
+    }
+    Ok(())
+}
+
+fn write_csv(path: &std::path::Path, rows: &[dc::Row]) -> Result<()> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.serialize(r)?;
+    }
+    let bytes = w.into_inner().context("cannot finish the CSV")?;
+    crate::atomic::write_atomic(path, &bytes)
+}
