@@ -102,18 +102,27 @@ pub fn model_threshold(fit: &Fit, target: f64) -> Threshold {
                 reason: format!("the fitted function never reaches p = {target}"),
             },
         },
-        Shape::Step(step) => step_threshold(fit, step.lapse).unwrap_or_else(|| sides(fit, target)),
+        Shape::Step(step) => {
+            step_threshold(fit, step.lapse, target).unwrap_or_else(|| sides(fit, target))
+        }
         // A single level: which side of the target it lies on.
         Shape::Unidentified { .. } => sides(fit, target),
     }
 }
 
 /// A step through a tested level (its fitted value strictly between the guess rate and
-/// 1 - lapse) crosses every target in between exactly there.
-fn step_threshold(fit: &Fit, lapse: f64) -> Option<Threshold> {
+/// 1 - lapse) crosses every target in between exactly there: steep functions through the level
+/// cross the target just below it (when the level's value is under the target) or just above
+/// it, and in the limit at it. At an end of the tested range, a crossing approached from
+/// outside stays out of range (never extrapolated): `None`, and the sides decide.
+fn step_threshold(fit: &Fit, lapse: f64, target: f64) -> Option<Threshold> {
     let (g, top) = (fit.settings.guess, 1.0 - lapse);
     let pts = &fit.curve.points;
     let k = fit.fitted.iter().position(|&p| p > g && p < top)?;
+    let p = fit.fitted[k];
+    if (k == 0 && p < target) || (k + 1 == pts.len() && p > target) {
+        return None;
+    }
     Some(Threshold::AtLevel {
         level: pts[k].level,
         lower: pts[k.saturating_sub(1)].level,
@@ -330,16 +339,32 @@ mod tests {
                 upper: 64
             }
         );
-        // A step through the lowest level: its bracket starts at the level itself.
+        // A step through the lowest level: its bracket starts at the level itself. Steep
+        // functions through 3/4 at 8 spp cross 0.75 at 8 spp and 0.7 just above it (inside
+        // the range), but 0.8 just below it: below the range, never extrapolated.
         let c = Curve::from_counts([(8, 3, 4), (27, 2, 4), (64, 2, 4)]);
         let f = fit(&c, &FitSettings::default());
+        let at_8 = Threshold::AtLevel {
+            level: 8,
+            lower: 8,
+            upper: 27,
+        };
+        assert_eq!(model_threshold(&f, 0.75), at_8);
+        assert_eq!(model_threshold(&f, 0.7), at_8);
+        assert_eq!(model_threshold(&f, 0.8), Threshold::BelowRange { bound: 8 });
+        // Through the highest level, the mirror image.
+        let c = Curve::from_counts([(8, 4, 4), (27, 4, 4), (64, 3, 4)]);
+        let f = fit(&c, &FitSettings::default());
+        let at_64 = Threshold::AtLevel {
+            level: 64,
+            lower: 27,
+            upper: 64,
+        };
+        assert_eq!(model_threshold(&f, 0.75), at_64);
+        assert_eq!(model_threshold(&f, 0.8), at_64);
         assert_eq!(
-            model_threshold(&f, 0.75),
-            Threshold::AtLevel {
-                level: 8,
-                lower: 8,
-                upper: 27
-            }
+            model_threshold(&f, 0.7),
+            Threshold::AboveRange { bound: 64 }
         );
     }
 }

@@ -3,9 +3,10 @@
 //! counts table (the path for data collected elsewhere) takes its guess rate from a design's
 //! task; degenerate m-alternative data are reported as the two-alternative cases are.
 
+use analysis::bootstrap::{BootstrapSettings, Bound, bootstrap};
 use analysis::cli::AnalyzeArgs;
 use analysis::data::{Curve, Dataset};
-use analysis::jnd::{Threshold, model_threshold};
+use analysis::jnd::{Threshold, empirical_threshold, model_threshold};
 use analysis::psychometric::{FitSettings, Model, fit};
 use analysis::report::analyze;
 use analysis::sigmoid::Sigmoid;
@@ -136,15 +137,41 @@ fn degenerate_four_alternative_data_are_out_of_range() {
         model_threshold(&f, 0.625),
         Threshold::BelowRange { bound: 1 }
     );
+    // The bootstrap draws from the fitted 1/4 and refits with the same guess rate: every
+    // replicate is at chance again, so both interval ends lie below the range.
+    let b = bootstrap(&f, 1, &boot(100));
+    assert_eq!(b.ci_lower, Some(Bound::BelowRange { bound: 1 }));
+    assert_eq!(b.ci_upper, Some(Bound::BelowRange { bound: 1 }));
     // For two alternatives the same counts lie below chance: still below range, at 0.5.
     let f2 = fit(&chance, &FitSettings::default());
     assert!(f2.fitted.iter().all(|&p| p == 0.5));
     // All correct: above the range whatever the guess rate.
     let all = Curve::from_counts(LEVELS.iter().map(|&l| (l, 40, 40)));
+    let f = fit(&all, &g);
     assert_eq!(
-        model_threshold(&fit(&all, &g), 0.625),
+        model_threshold(&f, 0.625),
         Threshold::AboveRange { bound: 512 }
     );
+    assert_eq!(
+        bootstrap(&f, 1, &boot(100)).ci_lower,
+        Some(Bound::AboveRange { bound: 512 })
+    );
+    // The empirical crossing reads the target only: 4-alternative proportions falling from 1
+    // through 0.625 between 27 and 64 spp (0.75 -> 0.5, halfway in ln spp).
+    let c = Curve::from_counts([(8, 40, 40), (27, 30, 40), (64, 20, 40), (125, 10, 40)]);
+    let Threshold::Value { spp } = empirical_threshold(&c, 0.625) else {
+        panic!()
+    };
+    assert!((spp - (27.0f64 * 64.0).sqrt()).abs() < 1e-9, "{spp}");
+}
+
+fn boot(resamples: usize) -> BootstrapSettings {
+    BootstrapSettings {
+        resamples,
+        seed: 3,
+        target: 0.625,
+        confidence: 0.95,
+    }
 }
 
 const DESIGN: &str = r#"{
