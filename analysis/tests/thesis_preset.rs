@@ -8,12 +8,12 @@ mod common;
 
 use analysis::cli::AnalyzeArgs;
 use analysis::data::{Dataset, Observation};
-use analysis::report::{Preset, analyze};
+use analysis::report::{Preset, Report, analyze};
 use analysis::simulate::StudySpec;
 use clap::Parser;
 use statrs::distribution::{ContinuousCDF, StudentsT};
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 const EXCLUDED: [&str; 2] = ["s03", "s07"];
 
@@ -134,16 +134,15 @@ fn expected(spec: &StudySpec) -> Vec<(String, f64, f64, f64)> {
     rows
 }
 
-#[test]
-fn thesis_preset_reproduces_tables_1_and_2_with_df_29_and_19() {
-    let dir = tempfile::tempdir().unwrap();
-    let sessions = dir.path().join("sessions");
-    let out = dir.path().join("report");
-    let spec = StudySpec::thesis();
-    spec.write_logs(&sessions, "design-1").unwrap();
-
-    // The command's own path (read, exclude, the preset's settings), with fewer bootstrap
-    // resamples than the command allows to keep the test fast: the tables do not use them.
+/// The thesis's simulated study through the command's own path (read, exclude, the preset's
+/// settings) with fewer bootstrap resamples than the command allows, to keep the test fast
+/// (the tables do not use them); the report and its folder.
+fn preset_report(dir: &Path) -> (Report, PathBuf) {
+    let sessions = dir.join("sessions");
+    let out = dir.join("report");
+    StudySpec::thesis()
+        .write_logs(&sessions, "design-1")
+        .unwrap();
     let a = args(&sessions, &out);
     assert_eq!(a.preset, Some(Preset::Thesis));
     let mut ds = Dataset::read(&a.inputs).unwrap();
@@ -152,10 +151,17 @@ fn thesis_preset_reproduces_tables_1_and_2_with_df_29_and_19() {
     settings.bootstrap.resamples = 20;
     let report = analyze(&ds, &settings);
     report.write(&out).unwrap();
+    (report, out)
+}
+
+#[test]
+fn thesis_preset_reproduces_tables_1_and_2_with_df_29_and_19() {
+    let dir = tempfile::tempdir().unwrap();
+    let (report, out) = preset_report(dir.path());
     common::assert_report_is_finite(&out);
 
     // Every row against the independent computation.
-    let want = expected(&spec);
+    let want = expected(&StudySpec::thesis());
     let rows = report.thesis_rows();
     assert_eq!(rows.len(), want.len());
     for (r, (test, t, df, p)) in rows.iter().zip(&want) {
@@ -209,17 +215,7 @@ fn thesis_preset_reproduces_tables_1_and_2_with_df_29_and_19() {
 #[test]
 fn thesis_tables_are_laid_out_as_the_thesis_prints_them() {
     let dir = tempfile::tempdir().unwrap();
-    let sessions = dir.path().join("sessions");
-    let out = dir.path().join("report");
-    StudySpec::thesis()
-        .write_logs(&sessions, "design-1")
-        .unwrap();
-    let a = args(&sessions, &out);
-    let mut ds = Dataset::read(&a.inputs).unwrap();
-    ds.exclude(&a.exclusions()).unwrap();
-    let mut settings = a.settings_for(&ds, None).unwrap();
-    settings.bootstrap.resamples = 20;
-    analyze(&ds, &settings).write(&out).unwrap();
+    let (_, out) = preset_report(dir.path());
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
 
     // Each table: its title, the df line, the header, then its rows in the thesis's order.
