@@ -3,7 +3,6 @@
 //! the error a scene's stimuli have at its JND — the number that lets a reader compare what
 //! people see with what a metric measures.
 
-use analysis::jnd::Threshold;
 use analysis::summary::Summary;
 use anyhow::Result;
 use renderer::convergence::{Row, rows, slopes};
@@ -97,12 +96,12 @@ fn error_at_jnd(s: &mut String, jnd: &Summary, rows: &[Row]) -> Result<()> {
         .filter(|r| r.grouping == analysis::data::Grouping::Scene)
     {
         let scene_rows: Vec<&Row> = rows.iter().filter(|x| x.scene == r.label).collect();
-        let (rmse, flip) = match &r.jnd {
-            Threshold::Value { spp } => (
-                interpolate(&level_means(&scene_rows, |x| x.rmse), *spp),
-                interpolate(&level_means(&scene_rows, |x| x.flip), *spp),
+        let (rmse, flip) = match r.jnd.spp() {
+            Some(spp) => (
+                interpolate(&level_means(&scene_rows, |x| x.rmse), spp),
+                interpolate(&level_means(&scene_rows, |x| x.flip), spp),
             ),
-            _ => (None, None),
+            None => (None, None),
         };
         let show = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.4}"));
         writeln!(

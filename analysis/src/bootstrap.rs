@@ -98,7 +98,8 @@ pub struct BootstrapResult {
     /// The JND interval; `None` when no replicate had a threshold.
     pub ci_lower: Option<Bound>,
     pub ci_upper: Option<Bound>,
-    /// Replicates whose threshold was an interval (a step fit).
+    /// Replicates whose threshold was read from a step fit (an interval or a step through a
+    /// level).
     pub step_replicates: usize,
     /// Deviance of the original fit and the share of replicates at least as large
     /// ((1 + count) / (1 + resamples)).
@@ -151,7 +152,7 @@ fn summarize(fit: &Fit, replicates: &[(Threshold, f64)], s: &BootstrapSettings) 
             lows.push(lo);
             highs.push(hi);
         }
-        steps += matches!(t, Threshold::Between { .. }) as usize;
+        steps += matches!(t, Threshold::Between { .. } | Threshold::AtLevel { .. }) as usize;
     }
     lows.sort_by(f64::total_cmp);
     highs.sort_by(f64::total_cmp);

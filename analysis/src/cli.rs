@@ -3,14 +3,15 @@
 //! own `analyze` binary does the same alone.
 
 use crate::bootstrap::BootstrapSettings;
-use crate::comparisons::ComparisonSettings;
-use crate::data::Dataset;
-use crate::psychometric::{FitSettings, LapseMode};
-use crate::report::{Report, Settings, analyze};
+use crate::comparisons::{ComparisonSettings, PairOrder, Unit};
+use crate::data::{Dataset, Source};
+use crate::psychometric::{FitSettings, GUESS, LapseMode};
+use crate::report::{Preset, Report, Settings, analyze};
 use crate::sigmoid::Sigmoid;
 use crate::ttest::TestKind;
 use anyhow::{Result, bail};
 use clap::Args;
+use experiment::Design;
 use std::path::PathBuf;
 
 /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
@@ -22,9 +23,17 @@ pub struct AnalyzeArgs {
     /// Report folder (created; files in it are replaced atomically).
     #[arg(long)]
     pub out: PathBuf,
-    /// Proportion correct defining the JND, in (0.5, 0.9].
-    #[arg(long, default_value_t = 0.75)]
+    /// Proportion correct defining the JND, in (guess rate, 0.9].
+    #[arg(long, default_value_t = 0.75, conflicts_with = "preset")]
     pub target: f64,
+    /// Guess rate: the lower asymptote, 1/m for m alternatives. Default: the task of --design,
+    /// else 0.5 for session logs (the two-pair task); counts tables need --guess or --design.
+    #[arg(long)]
+    pub guess: Option<f64>,
+    /// The study's design file: its task gives the guess rate and its factor order the pair
+    /// order of the t-tests; its hash must match the logs'.
+    #[arg(long)]
+    pub design: Option<PathBuf>,
     /// Sigmoid of the psychometric function (in ln spp).
     #[arg(long, value_enum, default_value_t = Sigmoid::Logistic)]
     pub sigmoid: Sigmoid,
@@ -38,31 +47,112 @@ pub struct AnalyzeArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Levels (spp) of the t-tests.
-    #[arg(long, value_delimiter = ',', default_value = "27,64,125")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "27,64,125",
+        conflicts_with = "preset"
+    )]
     pub levels: Vec<u32>,
     /// Extra levels for the between-scene tests (the thesis's Table 1 added 216).
-    #[arg(long, value_delimiter = ',', default_value = "216")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "216",
+        conflicts_with = "preset"
+    )]
     pub scene_levels: Vec<u32>,
     /// Which t-test.
-    #[arg(long, value_enum, default_value_t = TestKind::Paired)]
+    #[arg(long, value_enum, default_value_t = TestKind::Paired, conflicts_with = "preset")]
     pub test: TestKind,
     /// Significance level.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05, conflicts_with = "preset")]
     pub alpha: f64,
+    /// Unit of observation of the t-tests: one value per subject (pooled over the other
+    /// factors), or per subject x other-factor cell as the thesis did (cells of one subject are
+    /// not independent: more df, smaller p).
+    #[arg(long, value_enum, default_value_t = Unit::Subject, conflicts_with = "preset")]
+    pub unit: Unit,
+    /// Leave subjects out: `s03,s07`, or with reasons `s03=fell asleep,s07=did not finish`
+    /// (a reason cannot hold a comma). Listed in the report.
+    #[arg(long, value_delimiter = ',')]
+    pub exclude: Vec<String>,
+    /// Lay the analysis out as a publication did: `thesis` fixes --unit cell, --test paired,
+    /// --alpha 0.05 (no correction), --levels 27,64,125, --scene-levels 216, --target 0.75,
+    /// the thesis's pair order, and writes its Tables 1 and 2 (`thesis_tables.csv`).
+    #[arg(long, value_enum)]
+    pub preset: Option<Preset>,
 }
 
 impl AnalyzeArgs {
-    /// Validated analysis settings.
+    /// Validated analysis settings, the guess rate from --guess or 0.5 (see
+    /// [`AnalyzeArgs::settings_for`] for the default from the data and the design).
     pub fn settings(&self) -> Result<Settings> {
-        if !(self.target > 0.5 && self.target <= 0.9) {
+        self.settings_with_guess(self.guess.unwrap_or(GUESS))
+    }
+
+    /// Validated settings for this data: the guess rate from --guess, else the task of
+    /// `design`, else 0.5 for session logs; the pair order from the design's factors, else
+    /// the preset's.
+    pub fn settings_for(&self, ds: &Dataset, design: Option<&Design>) -> Result<Settings> {
+        let guess = match (self.guess, design) {
+            (Some(g), _) => g,
+            (None, Some(d)) => d.file.task.guess_rate(),
+            (None, None) if ds.source == Source::CountsTables => bail!(
+                "counts tables do not say the task: give --guess (1/m for m alternatives) or \
+                 --design (its `task`)"
+            ),
+            (None, None) => GUESS,
+        };
+        let mut s = self.settings_with_guess(guess)?;
+        if let Some(d) = design {
+            let f = &d.file.factors;
+            s.comparisons.order = PairOrder {
+                scenes: f.scenes.clone(),
+                point_sets: f.point_sets.clone(),
+                time_filters: f.time_filters.clone(),
+            };
+        }
+        Ok(s)
+    }
+
+    /// `--exclude` as (subject, reason) pairs.
+    pub fn exclusions(&self) -> Vec<(String, Option<String>)> {
+        self.exclude
+            .iter()
+            .map(|e| match e.split_once('=') {
+                Some((id, reason)) => (id.trim().to_string(), Some(reason.trim().to_string())),
+                None => (e.trim().to_string(), None),
+            })
+            .filter(|(id, _)| !id.is_empty())
+            .collect()
+    }
+
+    fn settings_with_guess(&self, guess: f64) -> Result<Settings> {
+        let thesis = self.preset == Some(Preset::Thesis);
+        // The preset's values; clap refuses the options it fixes, so these replace defaults.
+        let (target, alpha, kind, unit) = if thesis {
+            (0.75, 0.05, TestKind::Paired, Unit::Cell)
+        } else {
+            (self.target, self.alpha, self.test, self.unit)
+        };
+        let (levels, scene_levels) = if thesis {
+            (vec![27, 64, 125], vec![216])
+        } else {
+            (self.levels.clone(), self.scene_levels.clone())
+        };
+        if !(guess > 0.0 && guess < 1.0) {
+            bail!("--guess is {guess}; expected a proportion in (0, 1), 1/m for m alternatives");
+        }
+        if !(target > guess && target <= 0.9) {
             bail!(
-                "--target is {}; expected a proportion correct in (0.5, 0.9] (0.5 is chance, and \
-                 above 0.9 a free lapse of up to 0.06 could keep the function from reaching it)",
-                self.target
+                "--target is {target}; expected a proportion correct in ({guess}, 0.9] (the guess \
+                 rate {guess} is chance, and above 0.9 a free lapse of up to 0.06 could keep the \
+                 function from reaching it)"
             );
         }
-        if !(self.alpha > 0.0 && self.alpha < 1.0) {
-            bail!("--alpha is {}; expected a level in (0, 1)", self.alpha);
+        if !(alpha > 0.0 && alpha < 1.0) {
+            bail!("--alpha is {alpha}; expected a level in (0, 1)");
         }
         if self.bootstrap < 1000 {
             bail!(
@@ -70,28 +160,36 @@ impl AnalyzeArgs {
                 self.bootstrap
             );
         }
-        if self.levels.contains(&0) || self.scene_levels.contains(&0) {
+        if levels.contains(&0) || scene_levels.contains(&0) {
             bail!("--levels / --scene-levels: spp must be >= 1");
         }
         Ok(Settings {
             fit: FitSettings {
                 sigmoid: self.sigmoid,
                 lapse: self.lapse,
+                guess,
             },
-            target: self.target,
+            target,
             bootstrap: BootstrapSettings {
                 resamples: self.bootstrap,
                 seed: self.seed,
-                target: self.target,
+                target,
                 confidence: 0.95,
             },
             comparisons: ComparisonSettings {
-                kind: self.test,
-                levels: self.levels.clone(),
-                scene_extra_levels: self.scene_levels.clone(),
-                alpha: self.alpha,
+                kind,
+                levels,
+                scene_extra_levels: scene_levels,
+                alpha,
+                unit,
+                order: if thesis {
+                    PairOrder::thesis()
+                } else {
+                    PairOrder::default()
+                },
             },
             poor_fit_p: 0.05,
+            preset: self.preset,
         })
     }
 }
@@ -120,8 +218,18 @@ impl AnalyzeArgs {
 /// Read the logs, analyze, write the report files and figures; returns the report (e.g. for
 /// [`Report::summary`]). Tolerated problems (torn last lines) are printed as warnings.
 pub fn run_report(args: &AnalyzeArgs) -> Result<Report> {
-    let settings = args.settings()?;
-    let ds = Dataset::read(&args.inputs)?;
+    if args.guess.is_some() || args.design.is_none() {
+        // Refuse bad options before reading any data (with a design the guess rate, and so
+        // the valid targets, come from its task).
+        args.settings()?;
+    }
+    let design = args.design.as_deref().map(Design::load).transpose()?;
+    let mut ds = Dataset::read(&args.inputs)?;
+    if let Some(d) = &design {
+        check_design(d, &ds)?;
+    }
+    ds.exclude(&args.exclusions())?;
+    let settings = args.settings_for(&ds, design.as_ref())?;
     for w in &ds.warnings {
         eprintln!("warning: {w}");
     }
@@ -130,11 +238,33 @@ pub fn run_report(args: &AnalyzeArgs) -> Result<Report> {
     Ok(report)
 }
 
+/// Session logs must come from `design` (same hash); counts tables carry no hash.
+fn check_design(design: &Design, ds: &Dataset) -> Result<()> {
+    if ds.source == Source::SessionLogs && ds.design_hash != design.hash {
+        bail!(
+            "--design {} has design hash {:?}, but the session logs ({}) carry {:?} (design \
+             {:?}); give the design the logs were recorded with",
+            design.path.display(),
+            design.hash,
+            ds.files
+                .first()
+                .map_or(String::new(), |f| f.display().to_string()),
+            ds.design_hash,
+            ds.design
+        );
+    }
+    Ok(())
+}
+
 /// The `analyze` command: [`run_report`], then a short summary on stderr.
 pub fn run(args: AnalyzeArgs) -> Result<()> {
     let report = run_report(&args)?;
+    let excluded = match report.excluded.len() {
+        0 => String::new(),
+        n => format!(", {n} excluded"),
+    };
     eprintln!(
-        "analyzed {} trials of {} subjects ({} groups, {} t-tests) -> {}\n{}",
+        "analyzed {} trials of {} subjects{excluded} ({} groups, {} t-tests) -> {}\n{}",
         report.trials,
         report.subjects.len(),
         report.groups.len(),

@@ -150,6 +150,9 @@ impl GroupKey {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct Group {
     pub key: GroupKey,
+    /// A condition's factors `[scene, point set, time filter]` (`None` for the marginal
+    /// groupings): the cells the `cell` unit of the t-tests pairs.
+    pub condition: Option<[String; 3]>,
     /// `per_subject[i]` belongs to `Dataset::subjects[i]` (empty if that subject has none).
     pub per_subject: Vec<Curve>,
     pub pooled: Curve,
@@ -164,6 +167,26 @@ impl Group {
             .filter_map(|(s, c)| c.at(level).map(|p| (s, p.proportion())))
             .collect()
     }
+}
+
+/// Where the counts came from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Source {
+    /// `blurlab-session/1` logs: the blurlab experiment's two-pair task.
+    #[default]
+    SessionLogs,
+    /// Counts tables (CSV): data collected elsewhere, whose task the table does not say.
+    CountsTables,
+}
+
+/// A subject left out of the analysis, with the reason given.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Exclusion {
+    pub subject: String,
+    pub reason: String,
+    /// Main trials of that subject left out.
+    pub trials: u32,
 }
 
 /// Everything the analysis needs from a study's logs.
@@ -183,6 +206,9 @@ pub struct Dataset {
     pub trials: usize,
     /// Tolerated problems reported by the log reader (torn last lines).
     pub warnings: Vec<String>,
+    pub source: Source,
+    /// Subjects left out ([`Dataset::exclude`]), in the order given.
+    pub excluded: Vec<Exclusion>,
 }
 
 /// One analyzed trial, reduced to what aggregation needs.
@@ -199,8 +225,21 @@ pub struct Observation {
 impl Dataset {
     /// Read session logs: every `*.jsonl` in a folder, or the given files. Refuses an empty
     /// selection, mixed designs, unknown formats (the reader) and level 0.
+    /// Files ending in `.csv` are counts tables ([`Dataset::read_counts`]); logs and tables
+    /// cannot be mixed.
     pub fn read(inputs: &[PathBuf]) -> Result<Self> {
         let files = collect_files(inputs)?;
+        let is_csv = |f: &PathBuf| f.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+        if let Some(csv) = files.iter().find(|f| is_csv(f)) {
+            if let Some(log) = files.iter().find(|f| !is_csv(f)) {
+                bail!(
+                    "{} is a counts table and {} a session log; analyze one kind of input at a time",
+                    csv.display(),
+                    log.display()
+                );
+            }
+            return Self::read_counts(&files);
+        }
         let mut logs = Vec::with_capacity(files.len());
         for f in &files {
             logs.push(SessionLog::read(f)?);
@@ -278,6 +317,136 @@ impl Dataset {
         Ok(ds)
     }
 
+    /// Read counts tables: CSV with a header naming the columns `subject`, `scene`,
+    /// `point_set`, `time_filter`, `level` (spp, or any stimulus whose detection falls as it
+    /// rises, as a positive integer), `correct` and `trials` (in any order; other columns are
+    /// ignored). Rows of the same subject, condition and level are summed. Errors name the file
+    /// and line.
+    pub fn read_counts(files: &[PathBuf]) -> Result<Self> {
+        #[derive(serde::Deserialize)]
+        struct Row {
+            subject: String,
+            scene: String,
+            point_set: String,
+            time_filter: String,
+            level: u32,
+            correct: u32,
+            trials: u32,
+        }
+        let mut obs = Vec::new();
+        for f in files {
+            let mut reader = csv::Reader::from_path(f)
+                .map_err(|e| anyhow::anyhow!("cannot read counts table {}: {e}", f.display()))?;
+            for (i, row) in reader.deserialize::<Row>().enumerate() {
+                let line =
+                    |e: &csv::Error| e.position().map_or(i as u64 + 2, |p| p.line()).to_string();
+                let r = row.map_err(|e| {
+                    anyhow::anyhow!(
+                        "{}:{}: {e} (expected the columns subject, scene, point_set, \
+                         time_filter, level, correct, trials)",
+                        f.display(),
+                        line(&e)
+                    )
+                })?;
+                let at = format!("{}:{}", f.display(), i + 2);
+                if r.level == 0 {
+                    bail!("{at}: field `level` is 0; expected a positive integer (spp >= 1)");
+                }
+                if r.correct > r.trials {
+                    bail!(
+                        "{at}: field `correct` is {} but `trials` is {}; expected correct <= trials",
+                        r.correct,
+                        r.trials
+                    );
+                }
+                for k in 0..r.trials {
+                    obs.push(Observation {
+                        subject: r.subject.clone(),
+                        scene: r.scene.clone(),
+                        point_set: r.point_set.clone(),
+                        time_filter: r.time_filter.clone(),
+                        level: r.level,
+                        correct: k < r.correct,
+                    });
+                }
+            }
+        }
+        if obs.is_empty() {
+            bail!(
+                "the counts tables ({} files, first {}) hold no trials",
+                files.len(),
+                files
+                    .first()
+                    .map_or(String::new(), |f| f.display().to_string())
+            );
+        }
+        let mut ds = Self::from_observations(&obs);
+        ds.design = match files {
+            [one] => one
+                .file_stem()
+                .map_or("counts".into(), |s| s.to_string_lossy().into_owned()),
+            _ => "counts tables".into(),
+        };
+        ds.files = files.to_vec();
+        ds.source = Source::CountsTables;
+        Ok(ds)
+    }
+
+    /// Leave subjects out, each with the reason given (`None`: no reason given). Every id must
+    /// be one of the data's subjects (a typo must not pass silently), and one subject must
+    /// remain.
+    pub fn exclude(&mut self, list: &[(String, Option<String>)]) -> Result<()> {
+        for (id, _) in list {
+            if !self.subjects.contains(id) {
+                bail!(
+                    "--exclude names subject {id:?}, which is not in the data; the subjects are {}",
+                    self.subjects.join(", ")
+                );
+            }
+        }
+        let keep: Vec<bool> = self
+            .subjects
+            .iter()
+            .map(|s| !list.iter().any(|(id, _)| id == s))
+            .collect();
+        if !keep.contains(&true) {
+            bail!("--exclude leaves no subject to analyze");
+        }
+        for (id, reason) in list {
+            if self.excluded.iter().any(|e| &e.subject == id) {
+                continue;
+            }
+            let s = self.subjects.iter().position(|x| x == id).unwrap_or(0);
+            let trials = self
+                .groups_of(Grouping::Condition)
+                .map(|g| g.per_subject[s].total_trials())
+                .sum();
+            self.excluded.push(Exclusion {
+                subject: id.clone(),
+                reason: reason.clone().unwrap_or_else(|| "no reason given".into()),
+                trials,
+            });
+        }
+        self.subjects = kept(&self.subjects, &keep);
+        for g in &mut self.groups {
+            g.per_subject = kept(&g.per_subject, &keep);
+            g.pooled = Curve::default();
+            for c in &g.per_subject {
+                g.pooled.merge(c);
+            }
+        }
+        self.groups.retain(|g| !g.pooled.points.is_empty());
+        let mut levels: Vec<u32> = self.groups.iter().flat_map(|g| g.pooled.levels()).collect();
+        levels.sort_unstable();
+        levels.dedup();
+        self.levels = levels;
+        self.trials = self
+            .groups_of(Grouping::Condition)
+            .map(|g| g.pooled.total_trials() as usize)
+            .sum();
+        Ok(())
+    }
+
     /// Aggregate observations (no file checks; used by tests and simulations too).
     pub fn from_observations(obs: &[Observation]) -> Self {
         let mut subjects: Vec<String> = obs.iter().map(|o| o.subject.clone()).collect();
@@ -324,17 +493,19 @@ impl Dataset {
                 grouping: Grouping::Condition,
                 label: f.join("/"),
             };
-            (key, curves)
+            (key, Some(f.map(String::from)), curves)
         });
+        let marginals = marginals.into_iter().map(|(k, curves)| (k, None, curves));
         let groups = cells
             .chain(marginals)
-            .map(|(key, per_subject)| {
+            .map(|(key, condition, per_subject)| {
                 let mut pooled = Curve::default();
                 for c in &per_subject {
                     pooled.merge(c);
                 }
                 Group {
                     key,
+                    condition,
                     per_subject,
                     pooled,
                 }
@@ -349,6 +520,8 @@ impl Dataset {
             files: Vec::new(),
             trials: obs.len(),
             warnings: Vec::new(),
+            source: Source::SessionLogs,
+            excluded: Vec::new(),
         }
     }
 
@@ -358,6 +531,16 @@ impl Dataset {
             .iter()
             .filter(move |g| g.key.grouping == grouping)
     }
+}
+
+/// The items whose `keep` flag is set.
+fn kept<T: Clone>(items: &[T], keep: &[bool]) -> Vec<T> {
+    items
+        .iter()
+        .zip(keep)
+        .filter(|(_, k)| **k)
+        .map(|(x, _)| x.clone())
+        .collect()
 }
 
 fn distinct<'a>(it: impl Iterator<Item = &'a String>) -> usize {

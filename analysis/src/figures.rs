@@ -58,6 +58,7 @@ pub fn draw_all(report: &Report, dir: &Path) -> Result<Vec<String>> {
     std::fs::create_dir_all(dir)
         .map_err(|e| anyhow!("cannot create folder {}: {e}", dir.display()))?;
     let target = report.settings.target;
+    let guess = report.settings.fit.guess;
     let mut figures = Vec::new();
     for (grouping, single, overlaid) in [
         (Grouping::Scene, "scene", "All scenes"),
@@ -98,7 +99,7 @@ pub fn draw_all(report: &Report, dir: &Path) -> Result<Vec<String>> {
         let mut svg = String::new();
         {
             let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-            draw(&root, f, target)?;
+            draw(&root, f, target, guess)?;
             root.present().map_err(|e| anyhow!("{e:?}"))?;
         }
         renderer::atomic::write_atomic(&dir.join(format!("{}.svg", f.name)), svg.as_bytes())?;
@@ -107,7 +108,7 @@ pub fn draw_all(report: &Report, dir: &Path) -> Result<Vec<String>> {
         let tmp = dir.join(format!(".{}.{}.tmp.png", f.name, std::process::id()));
         {
             let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
-            draw(&root, f, target)?;
+            draw(&root, f, target, guess)?;
             root.present()
                 .map_err(|e| anyhow!("cannot write {}: {e:?}", png.display()))?;
         }
@@ -133,7 +134,12 @@ fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("drawing failed: {e:?}")
 }
 
-fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, f: &Figure, target: f64) -> Result<()> {
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    f: &Figure,
+    target: f64,
+    guess: f64,
+) -> Result<()> {
     root.fill(&WHITE).map_err(err)?;
     let levels: Vec<u32> = f
         .groups
@@ -152,7 +158,10 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, f: &Figure, target: f
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(60)
-        .build_cartesian_2d((x0..x1).log_scale().with_key_points(ticks), 0.3f64..1.05f64)
+        .build_cartesian_2d(
+            (x0..x1).log_scale().with_key_points(ticks),
+            (guess - 0.2).clamp(0.0, 0.3)..1.05f64,
+        )
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -162,7 +171,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, f: &Figure, target: f
         .label_style((FONT, 14))
         .draw()
         .map_err(err)?;
-    for (y, colour, label) in [(target, RED, "JND threshold"), (0.5, GREEN, "chance")] {
+    for (y, colour, label) in [(target, RED, "JND threshold"), (guess, GREEN, "chance")] {
         chart
             .draw_series(DashedLineSeries::new(
                 vec![(x0, y), (x1, y)],
@@ -310,7 +319,8 @@ fn draw_group<DB: DrawingBackend>(
         .map_err(err)?;
     // The JND.
     match g.threshold {
-        Threshold::Value { spp } => {
+        Threshold::Value { .. } | Threshold::AtLevel { .. } => {
+            let spp = g.threshold.spp().unwrap_or(1.0);
             chart
                 .draw_series(std::iter::once(TriangleMarker::new(
                     (spp, target),

@@ -16,6 +16,11 @@ pub enum Threshold {
     Value { spp: f64 },
     /// A step: the crossing lies between these two tested levels (exclusive of `upper`).
     Between { lower: u32, upper: u32 },
+    /// A step through a tested level: the likelihood is maximised by an infinitely steep
+    /// function passing exactly through `level` (its fitted proportion strictly between the
+    /// plateaus), so the crossing is that level. `lower` and `upper` bracket the step: the
+    /// neighbouring tested levels (the level itself at an end of the tested range).
+    AtLevel { level: u32, lower: u32, upper: u32 },
     /// Already below the target at the lowest tested level.
     BelowRange { bound: u32 },
     /// Still above the target at the highest tested level.
@@ -29,20 +34,36 @@ impl Threshold {
         match self {
             Threshold::Value { .. } => "value",
             Threshold::Between { .. } => "between",
+            Threshold::AtLevel { .. } => "at_level",
             Threshold::BelowRange { .. } => "below_range",
             Threshold::AboveRange { .. } => "above_range",
             Threshold::Undefined { .. } => "undefined",
         }
     }
 
-    /// A short human reading: "41.3", "27-64", "< 1", "> 512", "undefined (...)".
+    /// A short human reading: "41.3", "27-64", "64 [27-125]", "< 1", "> 512",
+    /// "undefined (...)".
     pub fn display(&self) -> String {
         match self {
             Threshold::Value { spp } => format!("{spp:.1}"),
             Threshold::Between { lower, upper } => format!("{lower}-{upper}"),
+            Threshold::AtLevel {
+                level,
+                lower,
+                upper,
+            } => format!("{level} [{lower}-{upper}]"),
             Threshold::BelowRange { bound } => format!("< {bound}"),
             Threshold::AboveRange { bound } => format!("> {bound}"),
             Threshold::Undefined { reason } => format!("undefined ({reason})"),
+        }
+    }
+
+    /// The threshold as a number of spp, when it is one (a value, or a step through a level).
+    pub fn spp(&self) -> Option<f64> {
+        match self {
+            Threshold::Value { spp } => Some(*spp),
+            Threshold::AtLevel { level, .. } => Some(*level as f64),
+            _ => None,
         }
     }
 
@@ -54,6 +75,7 @@ impl Threshold {
             Threshold::Between { lower, upper } => {
                 Some(((*lower as f64).ln(), (*upper as f64).ln()))
             }
+            Threshold::AtLevel { level, .. } => Some(((*level as f64).ln(), (*level as f64).ln())),
             Threshold::BelowRange { .. } => Some((f64::NEG_INFINITY, f64::NEG_INFINITY)),
             Threshold::AboveRange { .. } => Some((f64::INFINITY, f64::INFINITY)),
             Threshold::Undefined { .. } => None,
@@ -74,26 +96,58 @@ pub fn model_threshold(fit: &Fit, target: f64) -> Threshold {
             Some(x) if x < first.x() => Threshold::BelowRange { bound: first.level },
             Some(x) if x > last.x() => Threshold::AboveRange { bound: last.level },
             Some(x) => Threshold::Value { spp: x.exp() },
-            // Unreachable for a validated target (0.5 < target <= 0.9, lapse <= 0.06), kept so
+            // Unreachable for a validated target (guess < target <= 0.9, lapse <= 0.06), kept so
             // that no number is ever invented.
             None => Threshold::Undefined {
                 reason: format!("the fitted function never reaches p = {target}"),
             },
         },
-        // Steps and single levels: read from the fitted values at the tested levels.
-        Shape::Step(_) | Shape::Unidentified { .. } => {
-            let above: Vec<bool> = fit.fitted.iter().map(|&p| p >= target).collect();
-            let n_above = above.iter().take_while(|&&a| a).count();
-            if n_above == 0 {
-                Threshold::BelowRange { bound: first.level }
-            } else if n_above == pts.len() {
-                Threshold::AboveRange { bound: last.level }
-            } else {
-                Threshold::Between {
-                    lower: pts[n_above - 1].level,
-                    upper: pts[n_above].level,
-                }
-            }
+        Shape::Step(step) => {
+            step_threshold(fit, step.lapse, target).unwrap_or_else(|| sides(fit, target))
+        }
+        // A single level: which side of the target it lies on.
+        Shape::Unidentified { .. } => sides(fit, target),
+    }
+}
+
+/// A step through a tested level (its fitted value strictly between the guess rate and
+/// 1 - lapse) crosses every target in between exactly there: steep functions through the level
+/// cross the target just below it (when the level's value is under the target) or just above
+/// it, and in the limit at it. At an end of the tested range, a crossing approached from
+/// outside stays out of range (never extrapolated): `None`, and the sides decide.
+fn step_threshold(fit: &Fit, lapse: f64, target: f64) -> Option<Threshold> {
+    let (g, top) = (fit.settings.guess, 1.0 - lapse);
+    let pts = &fit.curve.points;
+    let k = fit.fitted.iter().position(|&p| p > g && p < top)?;
+    let p = fit.fitted[k];
+    if (k == 0 && p < target) || (k + 1 == pts.len() && p > target) {
+        return None;
+    }
+    Some(Threshold::AtLevel {
+        level: pts[k].level,
+        lower: pts[k.saturating_sub(1)].level,
+        upper: pts[(k + 1).min(pts.len() - 1)].level,
+    })
+}
+
+/// The threshold read from the fitted values at the tested levels: the interval between the
+/// last level at or above the target and the next one, or out of range.
+fn sides(fit: &Fit, target: f64) -> Threshold {
+    let pts = &fit.curve.points;
+    let (Some(first), Some(last)) = (pts.first(), pts.last()) else {
+        return Threshold::Undefined {
+            reason: "no trials".into(),
+        };
+    };
+    let n_above = fit.fitted.iter().take_while(|&&p| p >= target).count();
+    if n_above == 0 {
+        Threshold::BelowRange { bound: first.level }
+    } else if n_above == pts.len() {
+        Threshold::AboveRange { bound: last.level }
+    } else {
+        Threshold::Between {
+            lower: pts[n_above - 1].level,
+            upper: pts[n_above].level,
         }
     }
 }
@@ -101,30 +155,42 @@ pub fn model_threshold(fit: &Fit, target: f64) -> Threshold {
 /// The thesis's reading: where the empirical curve (observed proportions joined by straight
 /// lines in ln spp) first falls through the target.
 pub fn empirical_threshold(curve: &Curve, target: f64) -> Threshold {
-    let pts = &curve.points;
-    let (Some(first), Some(last)) = (pts.first(), pts.last()) else {
+    let points: Vec<(u32, f64)> = curve
+        .points
+        .iter()
+        .map(|p| (p.level, p.proportion()))
+        .collect();
+    crossing(&points, target)
+}
+
+/// Where a curve of (level, proportion) points, sorted by level and joined by straight lines in
+/// ln spp, first falls through the target; out of range with the bound when it never does.
+pub fn crossing(points: &[(u32, f64)], target: f64) -> Threshold {
+    let (Some(&(first, p_first)), Some(&(last, _))) = (points.first(), points.last()) else {
         return Threshold::Undefined {
             reason: "no trials".into(),
         };
     };
-    if first.proportion() < target {
-        return Threshold::BelowRange { bound: first.level };
+    if p_first < target {
+        return Threshold::BelowRange { bound: first };
     }
-    for w in pts.windows(2) {
-        let (p0, p1) = (w[0].proportion(), w[1].proportion());
+    for w in points.windows(2) {
+        let ((l0, p0), (l1, p1)) = (w[0], w[1]);
         if p0 >= target && p1 < target {
+            let (x0, x1) = ((l0 as f64).ln(), (l1 as f64).ln());
             let f = (p0 - target) / (p0 - p1);
-            let x = w[0].x() + f * (w[1].x() - w[0].x());
-            return Threshold::Value { spp: x.exp() };
+            return Threshold::Value {
+                spp: (x0 + f * (x1 - x0)).exp(),
+            };
         }
     }
-    Threshold::AboveRange { bound: last.level }
+    Threshold::AboveRange { bound: last }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::psychometric::{FitSettings, Model, fit};
+    use crate::psychometric::{FitSettings, LapseMode, Model, fit};
     use crate::sigmoid::Sigmoid;
 
     #[test]
@@ -168,6 +234,7 @@ mod tests {
             alpha: 40f64.ln(),
             beta: 2.0,
             lapse: 0.0,
+            guess: 0.5,
         };
         assert!((m.x_at(0.75).unwrap() - 40f64.ln()).abs() < 1e-12);
         // Weibull (Gumbel form): S(z) = 1/2 at z = ln ln 2, so x = alpha - ln(ln 2)/beta.
@@ -216,6 +283,88 @@ mod tests {
         assert_eq!(
             model_threshold(&one, 0.75),
             Threshold::BelowRange { bound: 64 }
+        );
+    }
+
+    #[test]
+    fn a_step_through_one_level_is_that_level_with_its_bracket() {
+        // Plateau at 1 and 8 spp, 3 of 4 at 27, chance above: the likelihood is maximised by a
+        // step through 27 spp at 0.75, which crosses every target between 0.5 and 1 there.
+        let c = Curve::from_counts([(1, 4, 4), (8, 4, 4), (27, 3, 4), (64, 2, 4), (125, 2, 4)]);
+        for lapse in [LapseMode::Fixed, LapseMode::Free] {
+            let f = fit(
+                &c,
+                &FitSettings {
+                    lapse,
+                    ..FitSettings::default()
+                },
+            );
+            assert_eq!(f.kind(), "step", "{lapse:?}");
+            let at_27 = Threshold::AtLevel {
+                level: 27,
+                lower: 8,
+                upper: 64,
+            };
+            for target in [0.6, 0.75, 0.9] {
+                assert_eq!(model_threshold(&f, target), at_27, "{lapse:?} {target}");
+            }
+            assert_eq!(at_27.display(), "27 [8-64]");
+            assert_eq!(at_27.ln_bounds(), Some((27f64.ln(), 27f64.ln())));
+        }
+        // The same counts with 2 of 4 at 27 spp: at chance for two alternatives (the level is
+        // on the lower plateau, the step lies between 8 and 27), but above the guess rate 1/4
+        // of four alternatives (a step through 27).
+        let c = Curve::from_counts([(1, 4, 4), (8, 4, 4), (27, 2, 4), (64, 1, 4), (125, 1, 4)]);
+        let two = fit(&c, &FitSettings::default());
+        assert_eq!(
+            model_threshold(&two, 0.75),
+            Threshold::Between {
+                lower: 8,
+                upper: 27
+            }
+        );
+        let four = fit(
+            &c,
+            &FitSettings {
+                guess: 0.25,
+                ..FitSettings::default()
+            },
+        );
+        assert_eq!(four.kind(), "step");
+        assert_eq!(
+            model_threshold(&four, 0.625),
+            Threshold::AtLevel {
+                level: 27,
+                lower: 8,
+                upper: 64
+            }
+        );
+        // A step through the lowest level: its bracket starts at the level itself. Steep
+        // functions through 3/4 at 8 spp cross 0.75 at 8 spp and 0.7 just above it (inside
+        // the range), but 0.8 just below it: below the range, never extrapolated.
+        let c = Curve::from_counts([(8, 3, 4), (27, 2, 4), (64, 2, 4)]);
+        let f = fit(&c, &FitSettings::default());
+        let at_8 = Threshold::AtLevel {
+            level: 8,
+            lower: 8,
+            upper: 27,
+        };
+        assert_eq!(model_threshold(&f, 0.75), at_8);
+        assert_eq!(model_threshold(&f, 0.7), at_8);
+        assert_eq!(model_threshold(&f, 0.8), Threshold::BelowRange { bound: 8 });
+        // Through the highest level, the mirror image.
+        let c = Curve::from_counts([(8, 4, 4), (27, 4, 4), (64, 3, 4)]);
+        let f = fit(&c, &FitSettings::default());
+        let at_64 = Threshold::AtLevel {
+            level: 64,
+            lower: 27,
+            upper: 64,
+        };
+        assert_eq!(model_threshold(&f, 0.75), at_64);
+        assert_eq!(model_threshold(&f, 0.8), at_64);
+        assert_eq!(
+            model_threshold(&f, 0.7),
+            Threshold::AboveRange { bound: 64 }
         );
     }
 }

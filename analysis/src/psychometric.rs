@@ -1,11 +1,12 @@
-//! Two-alternative psychometric functions fitted by maximum likelihood on binomial counts.
+//! Forced-choice psychometric functions fitted by maximum likelihood on binomial counts.
 //!
-//! p(x) = 0.5 + (0.5 - lapse) S(beta (alpha - x)),  x = ln spp,  beta > 0,
-//! so p falls from 1 - lapse (noise plainly visible) to the guess rate 0.5 (invisible).
-//! The lapse is fixed at 0 or free in [0, 0.06].
+//! p(x) = g + (1 - g - lapse) S(beta (alpha - x)),  x = ln spp,  beta > 0,
+//! so p falls from 1 - lapse (noise plainly visible) to the guess rate g (invisible): g = 1/2
+//! for the thesis's two-pair task, 1/m for an m-alternative task. The lapse is fixed at 0 or
+//! free in [0, 0.06].
 //!
 //! Robustness. With few trials per level (the thesis had 4 per subject) the likelihood is often
-//! maximised only in the limit of an infinitely steep function: a *step* from 1 - lapse to 0.5
+//! maximised only in the limit of an infinitely steep function: a *step* from 1 - lapse to g
 //! between two tested levels, possibly with one level exactly on the step at any value between.
 //! That limit is computed in closed form ([`best_step`]); the finite model is searched by
 //! Nelder-Mead from several starts over a bounded reparameterisation (location within the tested
@@ -20,7 +21,7 @@ use serde::Serialize;
 
 mod starts;
 
-/// The guess rate of the two-alternative task.
+/// The guess rate of the thesis's two-pair task (two alternatives), the default.
 pub const GUESS: f64 = 0.5;
 /// Upper bound of a free lapse rate.
 pub const LAPSE_MAX: f64 = 0.06;
@@ -36,10 +37,13 @@ pub enum LapseMode {
 }
 
 /// What to fit.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct FitSettings {
     pub sigmoid: Sigmoid,
     pub lapse: LapseMode,
+    /// The lower asymptote: the proportion correct when the difference is invisible (1/m for
+    /// m alternatives), in [0, 1).
+    pub guess: f64,
 }
 
 impl Default for FitSettings {
@@ -47,6 +51,7 @@ impl Default for FitSettings {
         FitSettings {
             sigmoid: Sigmoid::Logistic,
             lapse: LapseMode::Fixed,
+            guess: GUESS,
         }
     }
 }
@@ -60,34 +65,36 @@ pub struct Model {
     /// Slope in 1 / ln spp (> 0).
     pub beta: f64,
     pub lapse: f64,
+    /// The guess rate g (lower asymptote).
+    pub guess: f64,
 }
 
 impl Model {
-    /// (ln p, ln (1 - p)) from the sigmoid's value.
+    /// (ln p, ln (1 - p)) from the sigmoid's value: 1 - p = (1 - g)(1 - S) + lapse S, formed
+    /// from 1 - S directly.
     fn ln_p_pair_of(&self, v: &SigmoidValue) -> (f64, f64) {
+        let g = self.guess;
+        let ln_1g = (-g).ln_1p();
         if self.lapse == 0.0 {
-            // 1 - p = 0.5 (1 - S) exactly: one logarithm less, and no underflow of 1 - S.
-            return ((GUESS + GUESS * v.s).ln(), GUESS.ln() + v.ln_sc);
+            // 1 - p = (1 - g)(1 - S) exactly: no underflow of 1 - S.
+            return ((g + (1.0 - g) * v.s).ln(), ln_1g + v.ln_sc);
         }
-        let ln_p = (GUESS + (1.0 - GUESS - self.lapse) * v.s).ln();
-        let q = GUESS * v.sc + self.lapse * v.s;
-        let ln_q = if q > 1e-300 {
-            q.ln()
-        } else {
-            GUESS.ln() + v.ln_sc
-        };
+        let ln_p = (g + (1.0 - g - self.lapse) * v.s).ln();
+        let q = (1.0 - g) * v.sc + self.lapse * v.s;
+        let ln_q = if q > 1e-300 { q.ln() } else { ln_1g + v.ln_sc };
         (ln_p, ln_q)
     }
 
     /// Proportion correct at x = ln spp.
     pub fn p(&self, x: f64) -> f64 {
-        GUESS + (1.0 - GUESS - self.lapse) * self.sigmoid.eval(self.beta * (self.alpha - x)).s
+        let g = self.guess;
+        g + (1.0 - g - self.lapse) * self.sigmoid.eval(self.beta * (self.alpha - x)).s
     }
 
-    /// x where p(x) = target, if the function reaches it (target strictly between 0.5 and
-    /// 1 - lapse).
+    /// x where p(x) = target, if the function reaches it (target strictly between the guess
+    /// rate and 1 - lapse).
     pub fn x_at(&self, target: f64) -> Option<f64> {
-        let q = (target - GUESS) / (1.0 - GUESS - self.lapse);
+        let q = (target - self.guess) / (1.0 - self.guess - self.lapse);
         (q > 0.0 && q < 1.0).then(|| self.alpha - self.sigmoid.inverse(q) / self.beta)
     }
 }
@@ -162,6 +169,7 @@ impl Fit {
                     alpha,
                     beta: 10.0 / gap,
                     lapse: s.lapse,
+                    guess: self.settings.guess,
                 })
             }
             _ => None,
@@ -232,8 +240,8 @@ impl Data {
     }
 }
 
-/// Best step (infinite slope) and its fitted values.
-pub fn best_step(curve: &Curve, lapse: LapseMode) -> (Step, Vec<f64>, f64) {
+/// Best step (infinite slope) from 1 - lapse down to the guess rate, and its fitted values.
+pub fn best_step(curve: &Curve, lapse: LapseMode, guess: f64) -> (Step, Vec<f64>, f64) {
     let pts = &curve.points;
     let mut best: Option<(Step, Vec<f64>, f64)> = None;
     for plateau in 0..=pts.len() {
@@ -255,8 +263,8 @@ pub fn best_step(curve: &Curve, lapse: LapseMode) -> (Step, Vec<f64>, f64) {
             .map(|i| match i.cmp(&plateau) {
                 std::cmp::Ordering::Less => top,
                 // The level on the step may sit anywhere between the plateaus.
-                std::cmp::Ordering::Equal => pts[i].proportion().clamp(GUESS, top),
-                std::cmp::Ordering::Greater => GUESS,
+                std::cmp::Ordering::Equal => pts[i].proportion().clamp(guess, top),
+                std::cmp::Ordering::Greater => guess,
             })
             .collect();
         let ll: f64 = pts
@@ -277,7 +285,7 @@ pub fn best_step(curve: &Curve, lapse: LapseMode) -> (Step, Vec<f64>, f64) {
             ));
         }
     }
-    // plateau = 0 (all at 0.5) always has a finite likelihood, so `best` is finite.
+    // plateau = 0 (all at g < 1) always has a finite likelihood, so `best` is finite.
     best.expect("at least one step position")
 }
 
@@ -289,6 +297,7 @@ struct Space {
     ln_b_hi: f64,
     free_lapse: bool,
     sigmoid: Sigmoid,
+    guess: f64,
 }
 
 fn logistic(u: f64) -> f64 {
@@ -301,7 +310,7 @@ fn logit(p: f64) -> f64 {
 }
 
 impl Space {
-    fn new(data: &Data, sigmoid: Sigmoid, lapse: LapseMode) -> Self {
+    fn new(data: &Data, settings: &FitSettings) -> Self {
         let lo = data.x[0];
         let hi = *data.x.last().unwrap_or(&lo);
         let span = hi - lo;
@@ -317,8 +326,9 @@ impl Space {
             ln_b_lo: (0.01 / span.max(1.0)).ln(),
             // A step: z changes by 50 across the smallest gap (S goes from 2e-22 to 1 - 2e-22).
             ln_b_hi: (50.0 / min_gap).ln(),
-            free_lapse: lapse == LapseMode::Free,
-            sigmoid,
+            free_lapse: settings.lapse == LapseMode::Free,
+            sigmoid: settings.sigmoid,
+            guess: settings.guess,
         }
     }
 
@@ -332,6 +342,7 @@ impl Space {
             } else {
                 0.0
             },
+            guess: self.guess,
         }
     }
 
@@ -366,7 +377,7 @@ pub fn fit_with(curve: &Curve, settings: &FitSettings, warm: Option<&Model>) -> 
         return unidentified(curve, settings);
     }
     let data = Data::new(curve);
-    let space = Space::new(&data, settings.sigmoid, settings.lapse);
+    let space = Space::new(&data, settings);
     // (start, initial simplex edge): a warm start is near the optimum, so a small simplex.
     let starts: Vec<([f64; 3], f64)> = match warm {
         Some(m) => vec![
@@ -391,7 +402,7 @@ pub fn fit_with(curve: &Curve, settings: &FitSettings, warm: Option<&Model>) -> 
     let (u, _) = minimise(&data, &space, u, 0.3);
     let model = space.model(&u);
     let ll_finite = data.log_likelihood(&model);
-    let (step, step_fitted, ll_step) = best_step(curve, settings.lapse);
+    let (step, step_fitted, ll_step) = best_step(curve, settings.lapse, settings.guess);
     let sat = saturated_log_likelihood(curve);
     let is_step = space.slope_at_cap(&model) || ll_step >= ll_finite - 1e-7;
     if is_step {
@@ -430,7 +441,7 @@ fn unidentified(curve: &Curve, settings: &FitSettings) -> Fit {
     let fitted: Vec<f64> = curve
         .points
         .iter()
-        .map(|p| p.proportion().clamp(GUESS, 1.0))
+        .map(|p| p.proportion().clamp(settings.guess, 1.0))
         .collect();
     let ll: f64 = curve
         .points
@@ -481,6 +492,7 @@ mod tests {
             alpha: 40f64.ln(),
             beta: 1.5,
             lapse: 0.0,
+            guess: GUESS,
         };
         let n = 100_000_000u32;
         let c = Curve::from_counts(THESIS.iter().map(|&l| {
@@ -499,7 +511,14 @@ mod tests {
         let c = curve(&THESIS, &[4; 8], 4);
         for lapse in [LapseMode::Fixed, LapseMode::Free] {
             for sigmoid in [Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal] {
-                let f = fit(&c, &FitSettings { sigmoid, lapse });
+                let f = fit(
+                    &c,
+                    &FitSettings {
+                        sigmoid,
+                        lapse,
+                        guess: GUESS,
+                    },
+                );
                 assert_eq!(f.kind(), "step", "{sigmoid:?} {lapse:?}");
                 assert!(f.fitted.iter().all(|&p| p == 1.0));
                 assert!(f.log_likelihood == 0.0 && f.deviance == 0.0);
@@ -532,7 +551,7 @@ mod tests {
     fn step_likelihood_matches_closed_form() {
         // Plateau [1, 8], level 27 on the step at its own proportion 3/4, rest at 0.5.
         let c = curve(&THESIS[..5], &[4, 4, 3, 2, 2], 4);
-        let (s, fitted, ll) = best_step(&c, LapseMode::Fixed);
+        let (s, fitted, ll) = best_step(&c, LapseMode::Fixed, GUESS);
         assert_eq!(s.plateau_levels, 2);
         assert_eq!(fitted, vec![1.0, 1.0, 0.75, 0.5, 0.5]);
         let expect = 3.0 * 0.75f64.ln() + 0.25f64.ln() + 8.0 * 0.5f64.ln();
@@ -562,6 +581,7 @@ mod tests {
                 &FitSettings {
                     sigmoid,
                     lapse: LapseMode::Fixed,
+                    guess: GUESS,
                 },
             );
             let m = *f.model().expect("finite");
@@ -572,6 +592,7 @@ mod tests {
                     alpha: a,
                     beta: b,
                     lapse: 0.0,
+                    guess: GUESS,
                 })
             };
             let mut best = (f64::NEG_INFINITY, 0.0, 0.0);
@@ -661,7 +682,7 @@ mod tests {
     /// x lapse when free): an optimizer-free lower bound on the maximum.
     fn grid_best(c: &Curve, settings: &FitSettings) -> f64 {
         let data = Data::new(c);
-        let space = Space::new(&data, settings.sigmoid, settings.lapse);
+        let space = Space::new(&data, settings);
         let lapses: &[f64] = match settings.lapse {
             LapseMode::Fixed => &[0.0],
             LapseMode::Free => &[0.0, 0.02, 0.04, LAPSE_MAX],
@@ -678,6 +699,7 @@ mod tests {
                         alpha,
                         beta: ln_b.exp(),
                         lapse,
+                        guess: settings.guess,
                     };
                     best = best.max(data.log_likelihood(&m));
                 }
@@ -752,7 +774,11 @@ mod tests {
         ];
         for (table, sigmoid, lapse) in cases {
             let c = Curve::from_counts(table.iter().copied());
-            let settings = FitSettings { sigmoid, lapse };
+            let settings = FitSettings {
+                sigmoid,
+                lapse,
+                guess: GUESS,
+            };
             let f = fit(&c, &settings);
             let grid = grid_best(&c, &settings);
             assert!(
@@ -770,6 +796,7 @@ mod tests {
             &FitSettings {
                 sigmoid: Logistic,
                 lapse: Free,
+                guess: GUESS,
             },
         );
         assert!(f.log_likelihood >= -446.8532, "{}", f.log_likelihood);
@@ -784,8 +811,8 @@ mod tests {
         })]
         /// Numerical stability on arbitrary count tables: 1-8 levels anywhere in 1..4096 spp,
         /// 1-200 trials per level (so both separated and near-asymptotic data), any counts,
-        /// every sigmoid and lapse mode. The fit is finite, its fitted values lie in the model's
-        /// range, and its likelihood is at least that of the best point of an independent grid
+        /// every sigmoid and lapse mode, guess rates of 2, 3, 4 and 10 alternatives. The fit is
+        /// finite, its fitted values lie in the model's range [g, 1], and its likelihood is at least that of the best point of an independent grid
         /// over the whole search space and that of the closed-form step. Tolerance: the
         /// optimizer stops when the simplex's values agree to 1e-11 relative, so 1e-9 (1 + |ll|)
         /// leaves two orders of magnitude for the last simplex's spread.
@@ -794,6 +821,7 @@ mod tests {
             table in proptest::collection::vec((1u32..4096, 1u32..=200, 0.0f64..=1.0), 1..=8),
             sig in 0usize..3,
             free in proptest::bool::ANY,
+            m in proptest::sample::select(vec![2u32, 3, 4, 10]),
         ) {
             let c = Curve::from_counts(
                 table.iter().map(|&(l, n, u)| (l, (u * n as f64).round() as u32, n)),
@@ -801,11 +829,12 @@ mod tests {
             let settings = FitSettings {
                 sigmoid: [Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal][sig],
                 lapse: if free { LapseMode::Free } else { LapseMode::Fixed },
+                guess: 1.0 / m as f64,
             };
             let f = fit(&c, &settings);
             proptest::prop_assert!(f.log_likelihood.is_finite() && f.log_likelihood <= 0.0);
             proptest::prop_assert!(f.deviance.is_finite() && f.deviance >= 0.0);
-            proptest::prop_assert!(f.fitted.iter().all(|p| (0.5..=1.0).contains(p)));
+            proptest::prop_assert!(f.fitted.iter().all(|p| (settings.guess..=1.0).contains(p)));
             if c.points.len() >= 2 {
                 let tol = |ll: f64| 1e-9 * (1.0 + ll.abs());
                 let grid = grid_best(&c, &settings);
@@ -813,7 +842,7 @@ mod tests {
                     f.log_likelihood >= grid - tol(grid),
                     "fit {} ({}) < grid {grid} on {:?}", f.log_likelihood, f.kind(), c.points
                 );
-                let (_, _, ll_step) = best_step(&c, settings.lapse);
+                let (_, _, ll_step) = best_step(&c, settings.lapse, settings.guess);
                 proptest::prop_assert!(f.log_likelihood >= ll_step - tol(ll_step));
             }
         }
@@ -839,12 +868,13 @@ mod tests {
             let settings = FitSettings {
                 sigmoid: [Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal][sig],
                 lapse: if free { LapseMode::Free } else { LapseMode::Fixed },
+                guess: GUESS,
             };
             let f = fit(&c, &settings);
             proptest::prop_assert!(f.log_likelihood.is_finite() && f.log_likelihood <= 0.0);
             proptest::prop_assert!(f.deviance.is_finite() && f.deviance >= 0.0);
             proptest::prop_assert!(f.fitted.iter().all(|p| (0.5..=1.0).contains(p)));
-            let (_, _, ll_step) = best_step(&c, settings.lapse);
+            let (_, _, ll_step) = best_step(&c, settings.lapse, settings.guess);
             proptest::prop_assert!(f.log_likelihood >= ll_step - 1e-9);
             if let crate::jnd::Threshold::Value { spp } = crate::jnd::model_threshold(&f, 0.75) {
                 proptest::prop_assert!(spp >= 1.0 && spp <= THESIS[ks.len() - 1] as f64);

@@ -4,13 +4,16 @@
 
 use crate::bootstrap::{BootstrapResult, BootstrapSettings, Bound, bootstrap, interval_text};
 use crate::comparisons::{Comparison, ComparisonSettings, compare};
-use crate::data::{Dataset, Group, GroupKey, Grouping};
-use crate::jnd::{Threshold, empirical_threshold, model_threshold};
+use crate::data::{Dataset, Exclusion, Group, GroupKey, Grouping, Source};
+use crate::jnd::{Threshold, crossing, empirical_threshold, model_threshold};
 use crate::psychometric::{Fit, FitSettings, LAPSE_MAX, LapseMode, Shape, fit};
 use anyhow::Result;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
+
+mod thesis;
+pub use thesis::{ThesisRow, display_name, format_p, format_t};
 
 /// The format tag of `report.json`.
 pub const REPORT_FORMAT: &str = "blurlab-report/1";
@@ -24,6 +27,18 @@ pub struct Settings {
     pub comparisons: ComparisonSettings,
     /// Deviance bootstrap p below this flags a poor fit.
     pub poor_fit_p: f64,
+    /// A report laid out like a publication's (`--preset`).
+    pub preset: Option<Preset>,
+}
+
+/// Analyses laid out as a publication did them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Preset {
+    /// The thesis's Chapter V: t-tests per subject x other-factor cell, two-sided, alpha 0.05,
+    /// no correction, at 27, 64, 125 spp (scenes also 216), its pair order and sign; Tables 1
+    /// and 2 as printed (`report.md`, `thesis_tables.csv`); its JND reading beside the fit.
+    Thesis,
 }
 
 impl Default for Settings {
@@ -62,6 +77,10 @@ pub struct GroupResult {
     pub pooled: Fit,
     pub threshold: Threshold,
     pub empirical: Threshold,
+    /// The thesis's reading of its figures: where the mean over subjects of the per-subject
+    /// proportions (the plotted points), joined by straight lines in ln spp, first falls
+    /// through the target. Equals `empirical` when every subject has the same trials.
+    pub mean_crossing: Threshold,
     pub bootstrap: BootstrapResult,
     pub poor_fit: bool,
     pub subjects: Vec<SubjectResult>,
@@ -78,6 +97,9 @@ pub struct Report {
     pub files: Vec<String>,
     pub trials: usize,
     pub warnings: Vec<String>,
+    pub source: Source,
+    /// Subjects left out (`--exclude`), with the reasons given.
+    pub excluded: Vec<Exclusion>,
     pub groups: Vec<GroupResult>,
     pub comparisons: Vec<Comparison>,
 }
@@ -93,6 +115,8 @@ pub fn analyze(ds: &Dataset, s: &Settings) -> Report {
         files: ds.files.iter().map(|f| f.display().to_string()).collect(),
         trials: ds.trials,
         warnings: ds.warnings.clone(),
+        source: ds.source,
+        excluded: ds.excluded.clone(),
         groups,
         comparisons: compare(ds, &s.comparisons),
     }
@@ -116,15 +140,18 @@ fn analyze_group(ds: &Dataset, g: &Group, s: &Settings) -> GroupResult {
             }
         })
         .collect();
+    let levels = level_summaries(g);
+    let means: Vec<(u32, f64)> = levels.iter().map(|l| (l.level, l.mean)).collect();
     GroupResult {
         key: g.key.clone(),
         threshold: model_threshold(&pooled, s.target),
         empirical: empirical_threshold(&g.pooled, s.target),
+        mean_crossing: crossing(&means, s.target),
         poor_fit: boot.deviance_p < s.poor_fit_p,
         bootstrap: boot,
         pooled,
         subjects,
-        levels: level_summaries(g),
+        levels,
     }
 }
 
@@ -179,6 +206,10 @@ pub struct JndRow {
     pub empirical_kind: &'static str,
     pub empirical_spp: Option<f64>,
     pub empirical: String,
+    /// Pooled rows: the crossing of the mean of per-subject proportions (the thesis's reading
+    /// of its figures); subject rows: the subject's empirical crossing.
+    pub mean_crossing_spp: Option<f64>,
+    pub mean_crossing: String,
     pub deviance: f64,
     pub deviance_p: Option<f64>,
     pub poor_fit: Option<bool>,
@@ -217,6 +248,8 @@ pub struct TTestRow {
     pub b: String,
     pub level: u32,
     pub test: &'static str,
+    /// `subject` or `cell`: what one observation of the test is.
+    pub unit: &'static str,
     pub n_a: usize,
     pub n_b: usize,
     pub mean_a: f64,
@@ -237,6 +270,11 @@ fn threshold_cols(t: &Threshold) -> (Option<f64>, Option<u32>, Option<u32>) {
     match t {
         Threshold::Value { spp } => (Some(*spp), None, None),
         Threshold::Between { lower, upper } => (None, Some(*lower), Some(*upper)),
+        Threshold::AtLevel {
+            level,
+            lower,
+            upper,
+        } => (Some(*level as f64), Some(*lower), Some(*upper)),
         Threshold::BelowRange { bound } => (None, None, Some(*bound)),
         Threshold::AboveRange { bound } => (None, Some(*bound), None),
         Threshold::Undefined { .. } => (None, None, None),
@@ -270,6 +308,8 @@ impl Report {
                 empirical_kind: g.empirical.kind(),
                 empirical_spp: threshold_cols(&g.empirical).0,
                 empirical: g.empirical.display(),
+                mean_crossing_spp: threshold_cols(&g.mean_crossing).0,
+                mean_crossing: g.mean_crossing.display(),
                 deviance: g.pooled.deviance,
                 deviance_p: Some(g.bootstrap.deviance_p),
                 poor_fit: Some(g.poor_fit),
@@ -295,6 +335,8 @@ impl Report {
                     empirical_kind: s.empirical.kind(),
                     empirical_spp: threshold_cols(&s.empirical).0,
                     empirical: s.empirical.display(),
+                    mean_crossing_spp: threshold_cols(&s.empirical).0,
+                    mean_crossing: s.empirical.display(),
                     deviance: s.fit.deviance,
                     deviance_p: None,
                     poor_fit: None,
@@ -369,6 +411,7 @@ impl Report {
                     b: c.b.clone(),
                     level: c.level,
                     test: c.test.kind.name(),
+                    unit: self.settings.comparisons.unit.name(),
                     n_a: c.test.n1,
                     n_b: c.test.n2,
                     mean_a: c.test.mean1,
@@ -401,6 +444,8 @@ impl Report {
             "files": self.files,
             "trials": self.trials,
             "warnings": self.warnings,
+            "source": self.source,
+            "excluded": self.excluded,
             "settings": self.settings,
             "jnd": self.jnd_rows(),
             "fits": self.fit_rows(),
@@ -410,6 +455,13 @@ impl Report {
             &dir.join("report.json"),
             (serde_json::to_string_pretty(&json)? + "\n").as_bytes(),
         )?;
+        let thesis_csv = dir.join("thesis_tables.csv");
+        if self.settings.preset == Some(Preset::Thesis) {
+            write_csv(&thesis_csv, &self.thesis_rows())?;
+        } else if thesis_csv.is_file() {
+            // A preset run's tables left in this folder would no longer match the report.
+            std::fs::remove_file(&thesis_csv)?;
+        }
         let figures = crate::figures::draw_all(self, &dir.join("figures"))?;
         renderer::atomic::write_atomic(&dir.join("report.md"), self.markdown(&figures).as_bytes())
     }
@@ -430,15 +482,39 @@ impl Report {
         for w in &self.warnings {
             let _ = writeln!(md, "- warning: {w}");
         }
+        if !self.excluded.is_empty() {
+            let _ = writeln!(md, "Excluded subjects (not in any table, fit or figure):\n");
+            for e in &self.excluded {
+                let _ = writeln!(
+                    md,
+                    "- {}: {} ({} main trials)",
+                    e.subject, e.reason, e.trials
+                );
+            }
+            let _ = writeln!(md);
+        }
         let _ = writeln!(md, "## Methods\n");
+        if s.preset == Some(Preset::Thesis) {
+            let _ = writeln!(
+                md,
+                "Preset `thesis`: the t-tests as the thesis ran them (Chapter V, Tables 1 and \
+                 2): paired over subject x other-factor cells, two-sided Student t, alpha = {}, \
+                 no correction for multiple tests, its pair order and sign (t > 0 when the first \
+                 named has the higher proportion correct). The cells of one subject are not \
+                 independent, so these degrees of freedom overstate the evidence; the default \
+                 analysis (`--unit subject`) tests one value per subject.\n",
+                s.comparisons.alpha
+            );
+        }
         let _ = writeln!(
             md,
-            "- Psychometric function for the two-alternative task: p(x) = 0.5 + (0.5 - lapse) \
-             S(beta (alpha - x)), x = ln spp; S: {}; lapse {}.\n\
+            "- Psychometric function for a forced-choice task with guess rate g = {}: \
+             p(x) = g + (1 - g - lapse) S(beta (alpha - x)), x = ln spp; S: {}; lapse {}.\n\
              - Maximum likelihood on the binomial counts, pooled over subjects per group, and \
              per subject. When the likelihood is maximised by an infinitely steep function (a \
              step) the threshold is reported as the interval between two tested levels, never as \
-             a number.\n\
+             a number; a step through a tested level (its proportion strictly between the \
+             plateaus) crosses the target at that level, shown as `level [bracket]`.\n\
              - JND: the spp where the fitted function crosses p = {}; beyond the tested levels it \
              is reported as below/above range, never extrapolated. Beside it, the thesis's \
              reading: where the observed proportions (joined linearly in ln spp) first fall \
@@ -449,10 +525,11 @@ impl Report {
              - Goodness of fit: deviance against the saturated model; its p-value is the share \
              of bootstrap replicates with a deviance at least as large. p < {} is flagged as a \
              poor fit.\n\
-             - t-tests ({}) on per-subject proportions correct (pooled over the other factors) \
-             at {:?} spp (scenes also at {:?}); two-sided p from the t distribution's survival \
-             function; decision at alpha = {}; Cohen's {}; Holm's step-down correction within \
-             each family (scenes, point sets).\n",
+             - t-tests ({}) on proportions correct per {} at {:?} spp (scenes also at {:?}); \
+             two-sided p from the t distribution's survival function; decision at alpha = {}; \
+             Cohen's {}; Holm's step-down correction within each family (scenes, point sets) \
+             in `ttests.csv`.\n",
+            s.fit.guess,
             s.fit.sigmoid.name(),
             match s.fit.lapse {
                 LapseMode::Fixed => "fixed at 0".to_string(),
@@ -464,6 +541,10 @@ impl Report {
             s.bootstrap.seed,
             s.poor_fit_p,
             s.comparisons.kind.name(),
+            match s.comparisons.unit {
+                crate::comparisons::Unit::Subject => "subject (pooled over the other factors)",
+                crate::comparisons::Unit::Cell => "subject x other-factor cell",
+            },
             s.comparisons.levels,
             s.comparisons.scene_extra_levels,
             s.comparisons.alpha,
@@ -491,8 +572,20 @@ impl Report {
                 if g.poor_fit { "**poor fit**" } else { "" }
             );
         }
+        let thesis = s.preset == Some(Preset::Thesis);
+        if thesis {
+            self.thesis_jnd_table(&mut md);
+        }
         self.subject_tables(&mut md);
-        self.ttest_tables(&mut md);
+        if thesis {
+            self.thesis_tables(&mut md);
+            self.ttest_tables(&mut md, &[Grouping::TimeFilter]);
+        } else {
+            self.ttest_tables(
+                &mut md,
+                &[Grouping::Scene, Grouping::PointSet, Grouping::TimeFilter],
+            );
+        }
         let _ = writeln!(md, "## Figures\n");
         for f in figures {
             let _ = writeln!(md, "![{f}](figures/{f}.svg) ([PNG](figures/{f}.png))\n");
@@ -550,13 +643,16 @@ impl Report {
         }
     }
 
-    fn ttest_tables(&self, md: &mut String) {
+    fn ttest_tables(&self, md: &mut String, families: &[Grouping]) {
         let s = &self.settings.comparisons;
         for (family, title) in [
             (Grouping::Scene, "Between scenes (thesis Table 1)"),
             (Grouping::PointSet, "Between point sets (thesis Table 2)"),
             (Grouping::TimeFilter, "Between time filters"),
         ] {
+            if !families.contains(&family) {
+                continue;
+            }
             let rows: Vec<&Comparison> = self
                 .comparisons
                 .iter()

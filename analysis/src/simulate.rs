@@ -96,6 +96,7 @@ impl StudySpec {
             alpha: (self.scenes[scene].1 * self.point_sets[point_set].1).ln() + offset,
             beta: self.slope,
             lapse: 0.0,
+            guess: 0.5,
         }
     }
 
@@ -254,6 +255,7 @@ mod tests {
             alpha: 40f64.ln(),
             beta: 2.0,
             lapse: 0.0,
+            guess: 0.5,
         };
         let c = simulate_curve(&m, &[40], 20_000, 1, &[2]);
         assert!((c.points[0].proportion() - 0.75).abs() < 4.0 * 0.0031);

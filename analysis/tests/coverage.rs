@@ -14,6 +14,7 @@ fn coverage(datasets: u64, resamples: usize) -> f64 {
         alpha: 40f64.ln(),
         beta: 1.5,
         lapse: 0.0,
+        guess: 0.5,
     };
     let levels = [1, 8, 27, 64, 125, 216, 343, 512];
     let settings = BootstrapSettings {

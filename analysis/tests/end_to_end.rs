@@ -238,3 +238,49 @@ fn empty_inputs_and_bad_settings_are_refused() {
     a.bootstrap = 10;
     assert!(run(a).unwrap_err().to_string().contains("--bootstrap"));
 }
+
+#[test]
+fn a_design_orders_the_pairs_and_must_match_the_logs() {
+    let dir = tempfile::tempdir().unwrap();
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let design_path = repo.join("scenes/designs/thesis.json");
+    let design = experiment::Design::load(&design_path).unwrap();
+    let spec = StudySpec {
+        subjects: 3,
+        ..StudySpec::thesis()
+    };
+    let sessions = dir.path().join("sessions");
+    spec.write_logs(&sessions, &design.hash).unwrap();
+    let a = AnalyzeArgs {
+        design: Some(design_path.clone()),
+        ..args(vec![sessions.clone()], &dir.path().join("out"))
+    };
+    let ds = analysis::data::Dataset::read(&a.inputs).unwrap();
+    let s = a.settings_for(&ds, Some(&design)).unwrap();
+    // The design's point-set order (hammersley, stratified, poisson), not the alphabet.
+    let pairs: Vec<(String, String)> = analysis::comparisons::compare(&ds, &s.comparisons)
+        .into_iter()
+        .filter(|c| c.family == analysis::data::Grouping::PointSet && c.level == 27)
+        .map(|c| (c.a, c.b))
+        .collect();
+    let want = [
+        ("hammersley", "stratified"),
+        ("hammersley", "poisson"),
+        ("stratified", "poisson"),
+    ];
+    assert_eq!(pairs, want.map(|(x, y)| (x.to_string(), y.to_string())));
+    assert_eq!(s.fit.guess, 0.5);
+    // Logs recorded under another design are refused, naming both hashes.
+    let other = dir.path().join("other");
+    spec.write_logs(&other, "another-hash").unwrap();
+    let e = run_report(&AnalyzeArgs {
+        design: Some(design_path),
+        ..args(vec![other], &dir.path().join("out2"))
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("--design") && e.contains(&design.hash) && e.contains("another-hash"),
+        "{e}"
+    );
+}

@@ -33,6 +33,9 @@ pub struct DesignFile {
     /// Trials per condition x level (the thesis: 4).
     #[serde(default = "default_repeats")]
     pub repeats: u32,
+    /// What the subject does on a trial; gives the analysis its guess rate.
+    #[serde(default, skip_serializing_if = "Task::is_two_pair")]
+    pub task: Task,
     #[serde(default)]
     pub layout: Layout,
     #[serde(default)]
@@ -73,6 +76,32 @@ pub enum ReferenceChoice {
     HighestLevel,
     /// An explicit stimulus id per scene.
     Stimuli(BTreeMap<String, String>),
+}
+
+/// The task of a trial.
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Task {
+    /// The thesis's: two pairs of videos, say which pair differs (guess rate 1/2).
+    #[default]
+    TwoPair,
+    /// m-alternative forced choice (guess rate 1/m), written `{"alternatives": m}`: describes
+    /// data collected by another program for `analyze`; sessions present only `two_pair`.
+    Alternatives(u32),
+}
+
+impl Task {
+    /// The proportion correct of a subject who cannot see the difference.
+    pub fn guess_rate(self) -> f64 {
+        match self {
+            Task::TwoPair => 0.5,
+            Task::Alternatives(m) => 1.0 / m as f64,
+        }
+    }
+
+    fn is_two_pair(&self) -> bool {
+        *self == Task::TwoPair
+    }
 }
 
 /// How the four videos of a trial are arranged.
@@ -316,6 +345,11 @@ fn validate(f: &DesignFile) -> Result<()> {
     if f.repeats == 0 {
         bail!("field `repeats` is 0; expected at least 1 trial per condition and level");
     }
+    if let Task::Alternatives(m) = f.task
+        && m < 2
+    {
+        bail!("field `task.alternatives` is {m}; expected at least 2 alternatives");
+    }
     if f.playback.loops == 0 {
         bail!("field `playback.loops` is 0; expected at least 1");
     }
@@ -511,12 +545,37 @@ pub(crate) mod tests {
                 "`playback.loops`",
             ),
             (edit(|v| v["surprise"] = 1.into()), "surprise"),
+            (
+                edit(|v| v["task"] = serde_json::json!({"alternatives": 1})),
+                "`task.alternatives`",
+            ),
+            (edit(|v| v["task"] = "three_pair".into()), "three_pair"),
         ];
         for (text, field) in cases {
             let e = err(&text);
             assert!(e.starts_with("d.json"), "{e}");
             assert!(e.contains(field), "expected {field} in: {e}");
         }
+    }
+
+    #[test]
+    fn the_task_gives_the_guess_rate_and_old_files_stay_two_pair() {
+        assert_eq!(small().file.task, Task::TwoPair);
+        assert_eq!(small().file.task.guess_rate(), 0.5);
+        let four = edit(|v| v["task"] = serde_json::json!({"alternatives": 4}));
+        let d = Design::parse(Path::new("d.json"), &four).unwrap();
+        assert_eq!(d.file.task, Task::Alternatives(4));
+        assert_eq!(d.file.task.guess_rate(), 0.25);
+        // Written explicitly, the default task changes the hash (the text differs) but not
+        // the design.
+        let explicit = edit(|v| v["task"] = "two_pair".into());
+        assert_eq!(
+            Design::parse(Path::new("d.json"), &explicit).unwrap().file,
+            small().file
+        );
+        // Serializing a two-pair design leaves the field out, as old files are.
+        let text = serde_json::to_string(&small().file).unwrap();
+        assert!(!text.contains("task"), "{text}");
     }
 
     #[test]

@@ -11,7 +11,7 @@
 //! the same list, after checking that the log belongs to this subject and this exact design and
 //! that every logged trial is the planned one.
 
-use crate::design::Design;
+use crate::design::{Design, Task};
 use crate::log::{Display, Header, LOG_FORMAT, LogLine, Resume, SessionLog, TrialRecord};
 use crate::log_writer::{Durability, LogWriter, whole_lines_len};
 use crate::trials::{self, Trial, TrialPlan};
@@ -105,6 +105,14 @@ impl Session {
         durability: Durability,
     ) -> Result<Self> {
         check_subject(subject)?;
+        if design.file.task != Task::TwoPair {
+            bail!(
+                "{}: field `task` is {:?}; sessions present the two-pair task only (a design with \
+                 another task describes data collected elsewhere, for `analyze --design`)",
+                design.path.display(),
+                design.file.task
+            );
+        }
         let plan = trials::plan(design, subject);
         let mut s = Session {
             design: design.clone(),

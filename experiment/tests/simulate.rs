@@ -91,3 +91,18 @@ fn an_observer_that_does_not_cover_the_design_is_refused_before_writing() {
     assert!(e.to_string().contains("spheres"), "{e}");
     assert!(!out.exists());
 }
+
+#[test]
+fn a_design_with_another_task_is_not_presented() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(repo("scenes/designs/thesis.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["task"] = serde_json::json!({"alternatives": 4});
+    let path = dir.path().join("four.json");
+    std::fs::write(&path, v.to_string()).unwrap();
+    let design = Design::load(&path).unwrap();
+    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let e = simulate(&design, &observer, 1, &dir.path().join("sessions")).unwrap_err();
+    let e = format!("{e:#}");
+    assert!(e.contains("four.json") && e.contains("`task`"), "{e}");
+}

@@ -101,6 +101,7 @@ fn point(space: &Space, data: &Data, alpha: f64, beta: f64, lapse: f64) -> Point
         alpha,
         beta,
         lapse,
+        guess: space.guess,
     };
     let (ll, flat) = data.log_likelihood_flat(&m);
     (ll, flat, space.coords(alpha, beta, lapse))
@@ -114,7 +115,8 @@ pub(super) fn warm(space: &Space, data: &Data) -> [f64; 3] {
 /// Starts of a cold fit: the best point of a grid of 41 log-slopes x locations evenly over the
 /// range (25) plus every level and every gap's middle (where a steep function's modes lie);
 /// its best non-flat local maxima; on each edge of the location range the best non-flat point
-/// of a line of 81 log-slopes; the empirical 0.75 crossing with the function falling over about
+/// of a line of 81 log-slopes; the empirical crossing of (1 + g) / 2 (halfway from the guess
+/// rate g to 1, 0.75 for two alternatives) with the function falling over about
 /// a quarter of the span; and one start in every gap with the function falling across it
 /// (z changes by 4 across the gap).
 pub(super) fn cold(curve: &Curve, space: &Space, data: &Data) -> Vec<[f64; 3]> {
@@ -135,7 +137,7 @@ pub(super) fn cold(curve: &Curve, space: &Space, data: &Data) -> Vec<[f64; 3]> {
         starts.extend(best.map(|v| v.2));
     }
     let span = x[x.len() - 1] - x[0];
-    if let Threshold::Value { spp } = empirical_threshold(curve, 0.75) {
+    if let Threshold::Value { spp } = empirical_threshold(curve, 0.5 * (1.0 + space.guess)) {
         starts.push(space.coords(spp.ln(), 8.0 / span, 0.01));
     }
     for w in x.windows(2) {
