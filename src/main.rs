@@ -23,6 +23,9 @@ enum Command {
     Simulate(experiment::cli::SimulateArgs),
     /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
     Analyze(analysis::cli::AnalyzeArgs),
+    /// Predict how visible each stimulus's noise is from its display frames (contrast
+    /// sensitivity, masking, pooling, the two-pair task): predicted.csv, JNDs, figures.
+    Predict(analysis::predict::command::PredictArgs),
     /// The whole study on built-in defaults: render the demo stimuli, simulate 12 subjects,
     /// analyze, and write results/demo/.
     Demo(blurlab::demo::DemoArgs),
@@ -39,6 +42,17 @@ fn demo(args: &blurlab::demo::DemoArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
+fn predict(args: &analysis::predict::command::PredictArgs) -> anyhow::Result<()> {
+    let out = analysis::predict::command::run(args)?;
+    if let Some(c) = &out.calibration {
+        println!("calibrated sensitivity constant k = {:.4}", c.k);
+    }
+    println!("{}", analysis::predict::output::jnd_table(&out.prediction));
+    println!("prediction: {}", out.files.predicted_csv.display());
+    println!("report:     {}", out.files.markdown.display());
+    Ok(())
+}
+
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -46,6 +60,7 @@ fn main() {
         Command::Run(args) => experiment::cli::run(args),
         Command::Simulate(args) => experiment::cli::simulate(args),
         Command::Analyze(args) => analysis::cli::run(args),
+        Command::Predict(args) => predict(&args),
         Command::Demo(args) => demo(&args),
     };
     if let Err(e) = result {

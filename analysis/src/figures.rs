@@ -17,12 +17,12 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
 
-const SIZE: (u32, u32) = (800, 600);
-const FONT: &str = "sans-serif";
+pub(crate) const SIZE: (u32, u32) = (800, 600);
+pub(crate) const FONT: &str = "sans-serif";
 
 /// Colours of overlaid series: never red or green, which mark the target and chance lines
 /// (the thesis's dashed red and green).
-const PALETTE: [RGBColor; 6] = [
+pub(crate) const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(0, 0, 0),
@@ -31,7 +31,7 @@ const PALETTE: [RGBColor; 6] = [
     RGBColor(23, 190, 207),
 ];
 
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     static ONCE: Once = Once::new();
     let mut result = Ok(());
     ONCE.call_once(|| {
@@ -117,7 +117,7 @@ pub fn draw_all(report: &Report, dir: &Path) -> Result<Vec<String>> {
     Ok(figures.into_iter().map(|f| f.name).collect())
 }
 
-fn file_safe(s: &str) -> String {
+pub(crate) fn file_safe(s: &str) -> String {
     s.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' {

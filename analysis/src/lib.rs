@@ -8,6 +8,8 @@ pub mod data;
 pub mod figures;
 pub mod jnd;
 pub mod optimizer;
+pub mod predict;
+pub mod progress;
 pub mod psychometric;
 pub mod report;
 pub mod sigmoid;
