@@ -30,6 +30,7 @@ fn demo_writes_the_report_and_reuses_its_stimuli() {
         subjects: 12,
         bootstrap: 1000,
         no_progress: true,
+        observer: None,
     };
     let first = run(&args).unwrap();
     assert!(first.frames_rendered > 0 && first.frames_reused == 0);

@@ -8,6 +8,7 @@ pub mod data;
 pub mod figures;
 pub mod jnd;
 pub mod optimizer;
+pub mod plan;
 pub mod predict;
 pub mod progress;
 pub mod psychometric;

@@ -90,12 +90,21 @@ mod tests {
         // The U2311H's published pixel pitch is 0.265 mm.
         assert!((d.pixel_pitch_m() * 1e3 - 0.265).abs() < 0.001);
         // 0.6 m: 2 * 600 mm * tan(0.5 deg) / 0.2652 mm = 39.5 px per degree.
-        assert!((d.pixels_per_degree() - 39.5).abs() < 0.1, "{}", d.pixels_per_degree());
+        assert!(
+            (d.pixels_per_degree() - 39.5).abs() < 0.1,
+            "{}",
+            d.pixels_per_degree()
+        );
         d.validate().unwrap();
         let bad = DisplaySpec {
             black_cd_m2: 400.0,
             ..d
         };
-        assert!(bad.validate().unwrap_err().to_string().contains("display.black_cd_m2"));
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("display.black_cd_m2")
+        );
     }
 }

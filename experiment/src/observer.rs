@@ -179,7 +179,11 @@ impl Observer {
 
     /// Probability that `subject` answers a trial of condition `c` at `spp` correctly.
     pub fn p_subject(&self, c: &Condition, subject: &str, spp: f64) -> Option<f64> {
-        let f = self.subject_factor(subject);
+        self.p_factor(c, self.subject_factor(subject), spp)
+    }
+
+    /// Probability correct at `spp` in condition `c` for a subject of threshold factor `f`.
+    pub fn p_factor(&self, c: &Condition, f: f64, spp: f64) -> Option<f64> {
         match &self.predicted {
             Some(t) => {
                 let p = t.curve(c)?.p_correct_at(spp / f);
@@ -188,6 +192,18 @@ impl Observer {
             }
             None => self.threshold(c).map(|t| self.p_correct(t * f, spp)),
         }
+    }
+
+    /// The population's mean probability correct in condition `c` at `spp`: the subject factor
+    /// integrated over u (200 midpoint nodes).
+    pub fn p_population(&self, c: &Condition, spp: f64) -> Option<f64> {
+        let n = 200;
+        let mut sum = 0.0;
+        for i in 0..n {
+            let u = (i as f64 + 0.5) / n as f64;
+            sum += self.p_factor(c, (self.file.subject_spread * (u - 0.5)).exp(), spp)?;
+        }
+        Some(sum / n as f64)
     }
 
     /// Refuse a design with a condition no rule covers.
@@ -399,7 +415,10 @@ mod tests {
         // The threshold is where the unshifted curve crosses 0.75, and the subject's is f times it.
         let t = o.threshold(&c).unwrap();
         let ts = o.subject_threshold(&c, "x").unwrap();
-        assert!((o.p_subject(&c, "x", ts).unwrap() - 0.75).abs() < 1e-9, "{t} {ts}");
+        assert!(
+            (o.p_subject(&c, "x", ts).unwrap() - 0.75).abs() < 1e-9,
+            "{t} {ts}"
+        );
         // A JSON observer naming the file: its lapse and spread apply.
         let json = dir.path().join("o.json");
         std::fs::write(

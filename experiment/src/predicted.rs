@@ -153,7 +153,8 @@ impl PredictedTable {
         for (i, r) in reader.deserialize::<PredictedRow>().enumerate() {
             // Line 1 is the format, line 2 the header.
             let row = r.with_context(|| format!("{}: line {}", path.display(), i + 3))?;
-            check_row(&row).map_err(|e| anyhow::anyhow!("{}: line {}: {e}", path.display(), i + 3))?;
+            check_row(&row)
+                .map_err(|e| anyhow::anyhow!("{}: line {}: {e}", path.display(), i + 3))?;
             rows.push(row);
         }
         if rows.is_empty() {
@@ -277,7 +278,10 @@ pub(crate) mod tests {
         }
         // p = 0.75 where d' = 2.104: spp = (8 / 2.104)^2.
         let spp = c.spp_at(0.75).unwrap();
-        assert!((spp - (8.0 / 2.103_591_720_330_45f64).powi(2)).abs() < 1e-6, "{spp}");
+        assert!(
+            (spp - (8.0 / 2.103_591_720_330_45f64).powi(2)).abs() < 1e-6,
+            "{spp}"
+        );
     }
 
     #[test]
@@ -289,7 +293,10 @@ pub(crate) mod tests {
         let e = PredictedTable::parse(Path::new("p.csv"), "scene\n").unwrap_err();
         assert!(format!("{e:#}").contains("line 1"), "{e:#}");
         let bad = text.replacen(",1.0,1.0,1.0,", ",1.0,-1.0,1.0,", 1);
-        let e = format!("{:#}", PredictedTable::parse(Path::new("p.csv"), &bad).unwrap_err());
+        let e = format!(
+            "{:#}",
+            PredictedTable::parse(Path::new("p.csv"), &bad).unwrap_err()
+        );
         assert!(e.contains("p.csv") && e.contains("line 3"), "{e}");
     }
 }

@@ -83,7 +83,11 @@ fn transpose(src: &[Complex32], dst: &mut [Complex32], cols: usize, rows: usize)
 
 /// Signed frequency index k of an n-point transform, in cycles per sample.
 fn signed(k: usize, n: usize) -> f64 {
-    let k = if k > n / 2 { k as f64 - n as f64 } else { k as f64 };
+    let k = if k > n / 2 {
+        k as f64 - n as f64
+    } else {
+        k as f64
+    };
     k / n as f64
 }
 
@@ -104,7 +108,9 @@ pub fn band_centres(width: usize, height: usize, ppd: f64) -> Vec<f64> {
     // The coarsest centre stays at or above 3 cycles per video side.
     let min_side = width.min(height).max(1) as f64;
     let count = ((min_side / 6.0).log2().floor() as i64 + 1).max(1) as usize;
-    (0..count).map(|b| 0.5 * ppd / 2f64.powi(b as i32)).collect()
+    (0..count)
+        .map(|b| 0.5 * ppd / 2f64.powi(b as i32))
+        .collect()
 }
 
 /// Weight of band `b` of `centres` at frequency `rho` (the windows sum to 1).
@@ -145,7 +151,8 @@ mod tests {
         let img: Vec<Complex32> = (0..w * h)
             .map(|i| {
                 let (x, y) = ((i % w) as f32, (i / w) as f32);
-                let v = (2.0 * std::f32::consts::PI * (3.0 * x / w as f32 + 1.0 * y / h as f32)).cos();
+                let v =
+                    (2.0 * std::f32::consts::PI * (3.0 * x / w as f32 + 1.0 * y / h as f32)).cos();
                 Complex32::new(v, 0.0)
             })
             .collect();

@@ -62,7 +62,8 @@ pub fn cells(p: &Prediction, ds: &Dataset) -> Result<Vec<Cell>> {
         for lc in &g.pooled.points {
             let found = p.stimuli.iter().find(|s| {
                 let r = &s.row;
-                format!("{}/{}/{}", r.scene, r.point_set, r.time_filter) == g.key.label && r.spp == lc.level
+                format!("{}/{}/{}", r.scene, r.point_set, r.time_filter) == g.key.label
+                    && r.spp == lc.level
             });
             let Some(s) = found else {
                 bail!(
@@ -140,7 +141,10 @@ pub fn calibrate(cells: Vec<Cell>) -> Calibration {
     let held_out = if conditions.len() < 2 {
         Vec::new()
     } else {
-        conditions.iter().map(|&name| held_out(&cells, name)).collect()
+        conditions
+            .iter()
+            .map(|&name| held_out(&cells, name))
+            .collect()
     };
     Calibration {
         k,
@@ -153,12 +157,16 @@ pub fn calibrate(cells: Vec<Cell>) -> Calibration {
 }
 
 fn held_out(cells: &[Cell], name: &str) -> HeldOut {
-    let (test, train): (Vec<Cell>, Vec<Cell>) = cells.iter().cloned().partition(|c| c.condition == name);
+    let (test, train): (Vec<Cell>, Vec<Cell>) =
+        cells.iter().cloned().partition(|c| c.condition == name);
     let k = fit_k(&train);
     let trials: u32 = test.iter().map(|c| c.trials).sum();
     let sq: f64 = test
         .iter()
-        .map(|c| c.trials as f64 * (two_pair_p_correct(k * c.q) - c.correct as f64 / c.trials as f64).powi(2))
+        .map(|c| {
+            c.trials as f64
+                * (two_pair_p_correct(k * c.q) - c.correct as f64 / c.trials as f64).powi(2)
+        })
         .sum();
     HeldOut {
         condition: name.to_string(),
@@ -183,17 +191,27 @@ pub fn markdown(c: &Calibration, default_k: f64) -> String {
         c.trials,
         c.cells.len(),
         c.k,
-        c.k_interval.map_or(String::new(), |[a, b]| format!(", 95% interval {a:.4} to {b:.4}")),
+        c.k_interval.map_or(String::new(), |[a, b]| format!(
+            ", 95% interval {a:.4} to {b:.4}"
+        )),
         c.log_likelihood
     );
     let _ = writeln!(s, "## Leave-one-condition-out prediction error\n");
-    let _ = writeln!(s, "| held-out condition | k without it | trials | RMSE of p | ln L per trial | guessing |");
+    let _ = writeln!(
+        s,
+        "| held-out condition | k without it | trials | RMSE of p | ln L per trial | guessing |"
+    );
     let _ = writeln!(s, "|---|---|---|---|---|---|");
     for h in &c.held_out {
         let _ = writeln!(
             s,
             "| {} | {:.4} | {} | {:.3} | {:.3} | {:.3} |",
-            h.condition, h.k, h.trials, h.rmse_p, h.log_likelihood_per_trial, h.guess_log_likelihood_per_trial
+            h.condition,
+            h.k,
+            h.trials,
+            h.rmse_p,
+            h.log_likelihood_per_trial,
+            h.guess_log_likelihood_per_trial
         );
     }
     if c.held_out.is_empty() {
@@ -220,7 +238,13 @@ mod tests {
                 let correct = (0..n)
                     .filter(|&t| unit_f64(hash(9, &[ci as u64, li as u64, t as u64])) < p)
                     .count() as u32;
-                cells.push(Cell { condition: cond.to_string(), spp: li as u32 + 1, q, correct, trials: n });
+                cells.push(Cell {
+                    condition: cond.to_string(),
+                    spp: li as u32 + 1,
+                    q,
+                    correct,
+                    trials: n,
+                });
             }
         }
         let c = calibrate(cells);

@@ -44,26 +44,39 @@ pub struct Outcome {
 
 pub fn run(args: &PredictArgs) -> Result<Outcome> {
     if !(args.sensitivity.is_finite() && args.sensitivity > 0.0) {
-        bail!("--sensitivity is {}; expected a positive number", args.sensitivity);
+        bail!(
+            "--sensitivity is {}; expected a positive number",
+            args.sensitivity
+        );
     }
     let design = args.design.as_deref().map(Design::load).transpose()?;
     let settings = PredictSettings {
-        display: design.as_ref().and_then(|d| d.file.display.clone()).unwrap_or_default(),
+        display: design
+            .as_ref()
+            .and_then(|d| d.file.display.clone())
+            .unwrap_or_default(),
         k: args.sensitivity,
         progress: !args.no_progress,
     };
     let mut prediction = predict(&args.stimuli, design.as_ref(), &settings)?;
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("results").join(&prediction.job).join("predict"));
+    let out = args.out.clone().unwrap_or_else(|| {
+        PathBuf::from("results")
+            .join(&prediction.job)
+            .join("predict")
+    });
     let mut calibration = None;
     if !args.calibrate.is_empty() {
         let ds = Dataset::read(&args.calibrate)?;
         let c = calibrate(cells(&prediction, &ds)?);
         std::fs::create_dir_all(&out)?;
-        renderer::atomic::write_atomic(&out.join("calibration.md"), markdown(&c, args.sensitivity).as_bytes())?;
-        renderer::atomic::write_atomic(&out.join("calibration.json"), serde_json::to_string_pretty(&c)?.as_bytes())?;
+        renderer::atomic::write_atomic(
+            &out.join("calibration.md"),
+            markdown(&c, args.sensitivity).as_bytes(),
+        )?;
+        renderer::atomic::write_atomic(
+            &out.join("calibration.json"),
+            serde_json::to_string_pretty(&c)?.as_bytes(),
+        )?;
         prediction = with_k(&prediction, c.k);
         calibration = Some(c);
     }

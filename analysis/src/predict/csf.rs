@@ -127,7 +127,10 @@ mod tests {
     fn matches_the_authors_implementation() {
         for (rho, omega, l, a, s) in PUBLISHED {
             let got = sensitivity(rho, omega, l, a);
-            assert!((got / s - 1.0).abs() < 1e-6, "{rho} {omega} {l} {a}: {got} vs {s}");
+            assert!(
+                (got / s - 1.0).abs() < 1e-6,
+                "{rho} {omega} {l} {a}: {got} vs {s}"
+            );
         }
     }
 

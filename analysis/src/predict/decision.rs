@@ -75,7 +75,11 @@ pub fn simulate_task(d_prime: f64, trials: u64, seed: u64) -> f64 {
         }
         let test_index = 2 * (diff_pair - 1) + if test_left { 0 } else { 1 };
         x[test_index] += d_prime;
-        let answer = if (x[0] - x[1]).abs() > (x[2] - x[3]).abs() { 1 } else { 2 };
+        let answer = if (x[0] - x[1]).abs() > (x[2] - x[3]).abs() {
+            1
+        } else {
+            2
+        };
         correct += (answer == diff_pair) as u64;
     }
     correct as f64 / trials as f64
@@ -89,11 +93,17 @@ mod tests {
     fn the_formula_matches_a_simulation_of_the_task() {
         // 200 000 trials per d': binomial sd <= 0.0011; allow 4 sd.
         let n = 200_000;
-        for (i, d) in [0.0, 0.5, 1.0, 2.0, 2.1036, 3.0, 5.0].into_iter().enumerate() {
+        for (i, d) in [0.0, 0.5, 1.0, 2.0, 2.1036, 3.0, 5.0]
+            .into_iter()
+            .enumerate()
+        {
             let p = two_pair_p_correct(d);
             let sim = simulate_task(d, n, 17 + i as u64);
             let sd = (p * (1.0 - p) / n as f64).sqrt().max(1e-6);
-            assert!((sim - p).abs() < 4.0 * sd + 1e-9, "d' {d}: formula {p}, simulated {sim}");
+            assert!(
+                (sim - p).abs() < 4.0 * sd + 1e-9,
+                "d' {d}: formula {p}, simulated {sim}"
+            );
         }
     }
 

@@ -53,7 +53,12 @@ impl Display {
     pub fn luminance(&self, rgb: &[u8]) -> Vec<f32> {
         let black = self.spec.black_cd_m2 as f32;
         rgb.chunks_exact(3)
-            .map(|p| black + self.lut[0][p[0] as usize] + self.lut[1][p[1] as usize] + self.lut[2][p[2] as usize])
+            .map(|p| {
+                black
+                    + self.lut[0][p[0] as usize]
+                    + self.lut[1][p[1] as usize]
+                    + self.lut[2][p[2] as usize]
+            })
             .collect()
     }
 }

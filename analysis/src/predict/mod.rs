@@ -21,6 +21,7 @@
 pub mod bands;
 pub mod calibrate;
 pub mod command;
+pub mod compare;
 pub mod csf;
 pub mod decision;
 pub mod display;

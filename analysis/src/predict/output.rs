@@ -25,7 +25,8 @@ pub struct Files {
 
 /// Write everything into `dir` (created; each file replaced atomically).
 pub fn write(p: &Prediction, dir: &Path) -> Result<Files> {
-    std::fs::create_dir_all(dir).map_err(|e| anyhow!("cannot create folder {}: {e}", dir.display()))?;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| anyhow!("cannot create folder {}: {e}", dir.display()))?;
     let table = PredictedTable::from_rows(p.stimuli.iter().map(|s| s.row.clone()).collect());
     let predicted_csv = dir.join("predicted.csv");
     renderer::atomic::write_atomic(&predicted_csv, table.to_csv()?.as_bytes())?;
@@ -63,8 +64,19 @@ pub fn spread_text(s: &FrameSpread) -> String {
 fn jnd_csv_text(p: &Prediction) -> Result<String> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
-        "scene", "point_set", "time_filter", "jnd_kind", "jnd_spp", "jnd", "frame_jnd_min",
-        "frame_jnd_median", "frame_jnd_max", "frames_below_range", "frames_above_range", "frames", "k",
+        "scene",
+        "point_set",
+        "time_filter",
+        "jnd_kind",
+        "jnd_spp",
+        "jnd",
+        "frame_jnd_min",
+        "frame_jnd_median",
+        "frame_jnd_max",
+        "frames_below_range",
+        "frames_above_range",
+        "frames",
+        "k",
     ])?;
     for c in &p.conditions {
         let f = &c.frame_jnd;
@@ -97,7 +109,11 @@ pub fn jnd_table(p: &Prediction) -> String {
     let mut s = String::new();
     s.push_str("| scene | point set | time filter | predicted p at each level (spp: p) | predicted JND (spp) | single frames' JND (min / median / max) |\n|---|---|---|---|---|---|\n");
     for c in &p.conditions {
-        let levels: Vec<String> = c.points.iter().map(|(spp, _, pc)| format!("{spp}: {pc:.3}")).collect();
+        let levels: Vec<String> = c
+            .points
+            .iter()
+            .map(|(spp, _, pc)| format!("{spp}: {pc:.3}"))
+            .collect();
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} |",
@@ -149,12 +165,21 @@ fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
 
 fn draw(p: &Prediction, dir: &Path) -> Result<Vec<PathBuf>> {
     register_font()?;
-    std::fs::create_dir_all(dir).map_err(|e| anyhow!("cannot create folder {}: {e}", dir.display()))?;
-    let mut scenes: Vec<&str> = p.conditions.iter().map(|c| c.condition.scene.as_str()).collect();
+    std::fs::create_dir_all(dir)
+        .map_err(|e| anyhow!("cannot create folder {}: {e}", dir.display()))?;
+    let mut scenes: Vec<&str> = p
+        .conditions
+        .iter()
+        .map(|c| c.condition.scene.as_str())
+        .collect();
     scenes.dedup();
     let mut out = Vec::new();
     for scene in scenes {
-        let conds: Vec<&ConditionPrediction> = p.conditions.iter().filter(|c| c.condition.scene == scene).collect();
+        let conds: Vec<&ConditionPrediction> = p
+            .conditions
+            .iter()
+            .filter(|c| c.condition.scene == scene)
+            .collect();
         let name = format!("predicted_{}", file_safe(scene));
         let title = format!("Predicted psychometric function: {scene}");
         let mut svg = String::new();
@@ -170,18 +195,27 @@ fn draw(p: &Prediction, dir: &Path) -> Result<Vec<PathBuf>> {
         {
             let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
             draw_scene(&root, &title, &conds)?;
-            root.present().map_err(|e| anyhow!("cannot write {}: {e:?}", png.display()))?;
+            root.present()
+                .map_err(|e| anyhow!("cannot write {}: {e:?}", png.display()))?;
         }
-        std::fs::rename(&tmp, &png).map_err(|e| anyhow!("cannot move {} to {}: {e}", tmp.display(), png.display()))?;
+        std::fs::rename(&tmp, &png)
+            .map_err(|e| anyhow!("cannot move {} to {}: {e}", tmp.display(), png.display()))?;
         out.push(svg_path);
         out.push(png);
     }
     Ok(out)
 }
 
-fn draw_scene<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, title: &str, conds: &[&ConditionPrediction]) -> Result<()> {
+fn draw_scene<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    conds: &[&ConditionPrediction],
+) -> Result<()> {
     root.fill(&WHITE).map_err(err)?;
-    let mut ticks: Vec<f64> = conds.iter().flat_map(|c| c.points.iter().map(|p| p.0 as f64)).collect();
+    let mut ticks: Vec<f64> = conds
+        .iter()
+        .flat_map(|c| c.points.iter().map(|p| p.0 as f64))
+        .collect();
     ticks.sort_by(f64::total_cmp);
     ticks.dedup();
     let lo = ticks.first().copied().unwrap_or(1.0).max(1.0);
@@ -204,7 +238,12 @@ fn draw_scene<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, title: &str, co
         .map_err(err)?;
     for (y, colour) in [(TARGET, RED), (0.5, GREEN)] {
         chart
-            .draw_series(DashedLineSeries::new(vec![(x0, y), (x1, y)], 8, 5, colour.stroke_width(2)))
+            .draw_series(DashedLineSeries::new(
+                vec![(x0, y), (x1, y)],
+                8,
+                5,
+                colour.stroke_width(2),
+            ))
             .map_err(err)?;
     }
     let cap = 10f64.powf(0.02);
@@ -212,13 +251,24 @@ fn draw_scene<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, title: &str, co
         let colour = PALETTE[i % PALETTE.len()];
         let style = colour.stroke_width(2);
         let dodge = 10f64.powf(0.03 * (i as f64 - 0.5 * (conds.len() as f64 - 1.0)));
-        let line: Vec<(f64, f64)> = c.points.iter().map(|&(s, _, pc)| (s as f64 * dodge, pc)).collect();
+        let line: Vec<(f64, f64)> = c
+            .points
+            .iter()
+            .map(|&(s, _, pc)| (s as f64 * dodge, pc))
+            .collect();
         chart
             .draw_series(LineSeries::new(line.clone(), style))
             .map_err(err)?
-            .label(format!("{}/{} (bars: single frames)", c.condition.point_set, c.condition.time_filter))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
-        chart.draw_series(line.iter().map(|&pt| Circle::new(pt, 4, colour.filled()))).map_err(err)?;
+            .label(format!(
+                "{}/{} (bars: single frames)",
+                c.condition.point_set, c.condition.time_filter
+            ))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        chart
+            .draw_series(line.iter().map(|&pt| Circle::new(pt, 4, colour.filled())))
+            .map_err(err)?;
         for (&(x, _), &(lo, hi)) in line.iter().zip(&c.frame_p) {
             chart
                 .draw_series([
@@ -230,7 +280,11 @@ fn draw_scene<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, title: &str, co
         }
         if let Threshold::Value { spp } = c.jnd {
             chart
-                .draw_series(std::iter::once(TriangleMarker::new((spp, TARGET), 8, colour.filled())))
+                .draw_series(std::iter::once(TriangleMarker::new(
+                    (spp, TARGET),
+                    8,
+                    colour.filled(),
+                )))
                 .map_err(err)?;
         }
     }

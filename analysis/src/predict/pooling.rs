@@ -55,7 +55,11 @@ mod tests {
     fn a_sinusoid_of_amplitude_a_pools_to_a() {
         let n = 64;
         let d: Vec<f32> = (0..n)
-            .map(|i| 3.0 * (2.0 * std::f32::consts::PI * 4.0 * i as f32 / n as f32).cos().abs())
+            .map(|i| {
+                3.0 * (2.0 * std::f32::consts::PI * 4.0 * i as f32 / n as f32)
+                    .cos()
+                    .abs()
+            })
             .collect();
         let mut p = FramePool::default();
         p.add_map(&d);

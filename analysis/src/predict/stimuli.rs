@@ -104,7 +104,11 @@ fn pairs(manifest: &Manifest, manifest_path: &Path, design: Option<&Design>) -> 
         None => {
             for s in manifest.stimuli.iter().filter(|s| !s.reference) {
                 let Some(r) = manifest.reference(&s.scene) else {
-                    bail!("{}: scene {:?} has no reference stimulus", manifest_path.display(), s.scene);
+                    bail!(
+                        "{}: scene {:?} has no reference stimulus",
+                        manifest_path.display(),
+                        s.scene
+                    );
                 };
                 out.insert(
                     s.id.clone(),
@@ -141,7 +145,11 @@ fn mean_luminance(video: &VideoSource, display: &Display) -> Result<f64> {
 }
 
 /// Predict every pair of a stimulus set (`manifest_path`: the manifest file or its folder).
-pub fn predict(manifest_path: &Path, design: Option<&Design>, s: &PredictSettings) -> Result<Prediction> {
+pub fn predict(
+    manifest_path: &Path,
+    design: Option<&Design>,
+    s: &PredictSettings,
+) -> Result<Prediction> {
     let t0 = Instant::now();
     s.display.validate()?;
     let manifest = Manifest::load(manifest_path)?;
@@ -159,8 +167,15 @@ pub fn predict(manifest_path: &Path, design: Option<&Design>, s: &PredictSetting
     let stimuli = pairs
         .par_iter()
         .map(|p| {
-            let r = predict_pair(p, &video(&p.test)?, &video(&p.reference)?, &display, means[p.reference.as_str()], s.k)
-                .with_context(|| format!("stimulus {} against {}", p.test, p.reference));
+            let r = predict_pair(
+                p,
+                &video(&p.test)?,
+                &video(&p.reference)?,
+                &display,
+                means[p.reference.as_str()],
+                s.k,
+            )
+            .with_context(|| format!("stimulus {} against {}", p.test, p.reference));
             bar.inc(1);
             r
         })
@@ -179,12 +194,26 @@ pub fn predict(manifest_path: &Path, design: Option<&Design>, s: &PredictSetting
     })
 }
 
-fn predict_pair(p: &Pair, test: &VideoSource, reference: &VideoSource, display: &Display, mean: f64, k: f64) -> Result<StimulusPrediction> {
+fn predict_pair(
+    p: &Pair,
+    test: &VideoSource,
+    reference: &VideoSource,
+    display: &Display,
+    mean: f64,
+    k: f64,
+) -> Result<StimulusPrediction> {
     let t0 = Instant::now();
-    if (test.width, test.height, test.frames()) != (reference.width, reference.height, reference.frames()) {
+    if (test.width, test.height, test.frames())
+        != (reference.width, reference.height, reference.frames())
+    {
         bail!(
             "the test is {}x{} with {} frames, the reference {}x{} with {}",
-            test.width, test.height, test.frames(), reference.width, reference.height, reference.frames()
+            test.width,
+            test.height,
+            test.frames(),
+            reference.width,
+            reference.height,
+            reference.frames()
         );
     }
     let viewing = Viewing {
@@ -213,7 +242,10 @@ fn predict_pair(p: &Pair, test: &VideoSource, reference: &VideoSource, display: 
 /// A CSV row from a pair's per-frame Q.
 fn row(p: &Pair, q_frames: &[f64], k: f64) -> PredictedRow {
     let q = video_q(q_frames);
-    let mut pf: Vec<f64> = q_frames.iter().map(|&qt| two_pair_p_correct(k * qt)).collect();
+    let mut pf: Vec<f64> = q_frames
+        .iter()
+        .map(|&qt| two_pair_p_correct(k * qt))
+        .collect();
     pf.sort_by(f64::total_cmp);
     PredictedRow {
         scene: p.condition.scene.clone(),
@@ -276,7 +308,9 @@ fn median(sorted: &[f64]) -> f64 {
 /// crossing of p = 0.75 between two levels (d' interpolated in log-log as the observer does).
 pub fn threshold(points: &[(u32, f64)]) -> Threshold {
     let (Some(first), Some(last)) = (points.first(), points.last()) else {
-        return Threshold::Undefined { reason: "no levels".into() };
+        return Threshold::Undefined {
+            reason: "no levels".into(),
+        };
     };
     let p = |d: f64| two_pair_p_correct(d);
     if p(first.1) < TARGET {
@@ -289,8 +323,12 @@ pub fn threshold(points: &[(u32, f64)]) -> Threshold {
         points: points.iter().map(|&(s, d)| (s as f64, d)).collect(),
     };
     match curve.spp_at(TARGET) {
-        Some(spp) => Threshold::Value { spp: spp.clamp(first.0 as f64, last.0 as f64) },
-        None => Threshold::Undefined { reason: "the predicted curve does not cross 0.75".into() },
+        Some(spp) => Threshold::Value {
+            spp: spp.clamp(first.0 as f64, last.0 as f64),
+        },
+        None => Threshold::Undefined {
+            reason: "the predicted curve does not cross 0.75".into(),
+        },
     }
 }
 
@@ -307,14 +345,27 @@ fn conditions(stimuli: &[StimulusPrediction], k: f64) -> Vec<ConditionPrediction
     by.into_iter()
         .map(|(condition, mut list)| {
             list.sort_by_key(|s| s.row.spp);
-            let points: Vec<(u32, f64, f64)> = list.iter().map(|s| (s.row.spp, s.row.d_prime, s.row.p_correct)).collect();
+            let points: Vec<(u32, f64, f64)> = list
+                .iter()
+                .map(|s| (s.row.spp, s.row.d_prime, s.row.p_correct))
+                .collect();
             let jnd = threshold(&points.iter().map(|&(s, d, _)| (s, d)).collect::<Vec<_>>());
             let frames = list.iter().map(|s| s.q_frames.len()).min().unwrap_or(0);
             let frame_thresholds: Vec<Threshold> = (0..frames)
-                .map(|t| threshold(&list.iter().map(|s| (s.row.spp, k * s.q_frames[t])).collect::<Vec<_>>()))
+                .map(|t| {
+                    threshold(
+                        &list
+                            .iter()
+                            .map(|s| (s.row.spp, k * s.q_frames[t]))
+                            .collect::<Vec<_>>(),
+                    )
+                })
                 .collect();
             ConditionPrediction {
-                frame_p: list.iter().map(|s| (s.row.p_frame_min, s.row.p_frame_max)).collect(),
+                frame_p: list
+                    .iter()
+                    .map(|s| (s.row.p_frame_min, s.row.p_frame_max))
+                    .collect(),
                 condition,
                 points,
                 jnd,
@@ -334,9 +385,16 @@ fn spread(ts: &[Threshold]) -> FrameSpread {
         .collect();
     inside.sort_by(f64::total_cmp);
     FrameSpread {
-        inside: (!inside.is_empty()).then(|| [inside[0], median(&inside), inside[inside.len() - 1]]),
-        below: ts.iter().filter(|t| matches!(t, Threshold::BelowRange { .. })).count(),
-        above: ts.iter().filter(|t| matches!(t, Threshold::AboveRange { .. })).count(),
+        inside: (!inside.is_empty())
+            .then(|| [inside[0], median(&inside), inside[inside.len() - 1]]),
+        below: ts
+            .iter()
+            .filter(|t| matches!(t, Threshold::BelowRange { .. }))
+            .count(),
+        above: ts
+            .iter()
+            .filter(|t| matches!(t, Threshold::AboveRange { .. }))
+            .count(),
         frames: ts.len(),
     }
 }
@@ -348,7 +406,10 @@ mod tests {
     #[test]
     fn thresholds_are_never_extrapolated() {
         // d' = 8 / sqrt(spp): p = 0.75 at spp = (8 / 2.1036)^2 = 14.46.
-        let pts: Vec<(u32, f64)> = [1u32, 8, 27, 64].iter().map(|&s| (s, 8.0 / (s as f64).sqrt())).collect();
+        let pts: Vec<(u32, f64)> = [1u32, 8, 27, 64]
+            .iter()
+            .map(|&s| (s, 8.0 / (s as f64).sqrt()))
+            .collect();
         match threshold(&pts) {
             Threshold::Value { spp } => assert!((spp - 14.463).abs() < 0.01, "{spp}"),
             t => panic!("{t:?}"),

@@ -95,7 +95,9 @@ mod tests {
         ] {
             let k = kernel(r, 6, 30.0);
             for j in 0..=3 {
-                let x: Vec<f64> = (0..6).map(|t| (2.0 * PI * (j * t) as f64 / 6.0).cos()).collect();
+                let x: Vec<f64> = (0..6)
+                    .map(|t| (2.0 * PI * (j * t) as f64 / 6.0).cos())
+                    .collect();
                 let y = apply(&k, &x);
                 let g = r(5.0 * j as f64);
                 for t in 0..6 {

@@ -63,7 +63,12 @@ pub struct Filters {
 impl Filters {
     pub fn new(v: Viewing) -> Result<Self> {
         if v.width == 0 || v.height == 0 || v.frames == 0 {
-            bail!("a video of {}x{} pixels and {} frames has nothing to compare", v.width, v.height, v.frames);
+            bail!(
+                "a video of {}x{} pixels and {} frames has nothing to compare",
+                v.width,
+                v.height,
+                v.frames
+            );
         }
         if !(v.fps > 0.0 && v.pixels_per_degree > 0.0 && v.mean_luminance > 0.0) {
             bail!("frame rate, pixels per degree and mean luminance must be positive: {v:?}");
@@ -72,9 +77,13 @@ impl Filters {
         let rho = radial_frequencies(v.width, v.height, v.pixels_per_degree);
         let centres = band_centres(v.width, v.height, v.pixels_per_degree);
         let two_pi2_s2 = 2.0 * std::f64::consts::PI.powi(2) * ADAPTATION_SIGMA_DEG.powi(2);
-        let adaptation = rho.iter().map(|r| ((-two_pi2_s2 * r * r).exp() / n) as f32).collect();
+        let adaptation = rho
+            .iter()
+            .map(|r| ((-two_pi2_s2 * r * r).exp() / n) as f32)
+            .collect();
         let (l, a) = (v.mean_luminance, v.area_deg2());
-        let csf: [Vec<f64>; 2] = [SUSTAINED, TRANSIENT].map(|m| rho.iter().map(|&r| spatial(&m, r, l, a)).collect());
+        let csf: [Vec<f64>; 2] =
+            [SUSTAINED, TRANSIENT].map(|m| rho.iter().map(|&r| spatial(&m, r, l, a)).collect());
         let bands = (0..centres.len())
             .map(|b| {
                 [0, 1].map(|k| {
@@ -147,7 +156,11 @@ pub fn frame_differences(
     let f = v.frames as i64;
     let pixels = v.width * v.height;
     let offsets: Vec<i64> = {
-        let mut o: Vec<i64> = filters.kernels.iter().flat_map(|k| k.taps.iter().map(|t| t.0)).collect();
+        let mut o: Vec<i64> = filters
+            .kernels
+            .iter()
+            .flat_map(|k| k.taps.iter().map(|t| t.0))
+            .collect();
         o.sort_unstable();
         o.dedup();
         o
@@ -160,13 +173,20 @@ pub fn frame_differences(
     let mut c_band = vec![Complex32::default(); pixels];
     let mut d = vec![0f32; pixels];
     for t in 0..f {
-        let needed: Vec<usize> = offsets.iter().map(|o| (t + o).rem_euclid(f) as usize).collect();
+        let needed: Vec<usize> = offsets
+            .iter()
+            .map(|o| (t + o).rem_euclid(f) as usize)
+            .collect();
         cache.retain(|i, _| needed.contains(i));
         for &i in &needed {
             if !cache.contains_key(&i) {
                 let (test, reference) = load(i)?;
                 if test.len() != pixels || reference.len() != pixels {
-                    bail!("frame {i} has {} and {} pixels; expected {pixels}", test.len(), reference.len());
+                    bail!(
+                        "frame {i} has {} and {} pixels; expected {pixels}",
+                        test.len(),
+                        reference.len()
+                    );
                 }
                 let z = filters.contrast(&test, &reference);
                 cache.insert(i, z);
@@ -196,7 +216,8 @@ pub fn frame_differences(
             filters.band(&e_pack, b, &mut e_band);
             filters.band(&c_pack, b, &mut c_band);
             for ((acc, e), c) in d.iter_mut().zip(&e_band).zip(&c_band) {
-                *acc += e.re.abs() / threshold_elevation(c.re) + e.im.abs() / threshold_elevation(c.im);
+                *acc +=
+                    e.re.abs() / threshold_elevation(c.re) + e.im.abs() / threshold_elevation(c.im);
             }
         }
         let mut pool = FramePool::default();
@@ -261,7 +282,9 @@ mod tests {
         let v = viewing(3);
         let mut filters = Filters::new(v).unwrap();
         let q = frame_differences(&mut filters, |t| {
-            let f: Vec<f32> = (0..64 * 64).map(|i| ((i * 7 + t * 13) % 255) as f32).collect();
+            let f: Vec<f32> = (0..64 * 64)
+                .map(|i| ((i * 7 + t * 13) % 255) as f32)
+                .collect();
             Ok((f.clone(), f))
         })
         .unwrap();
