@@ -69,7 +69,7 @@ pub struct Outcome {
 }
 
 pub fn run(args: &PlanArgs) -> Result<Outcome> {
-    if !(args.factor > 1.0) {
+    if args.factor.is_nan() || args.factor <= 1.0 {
         bail!("--factor is {}; expected a ratio > 1", args.factor);
     }
     if args.resamples < 19 {

@@ -45,11 +45,10 @@ pub fn session(
         Layout::Grid => fixation + play,
     } + response_seconds;
     let main = design.main_trial_count();
-    let breaks = if f.break_every == 0 {
-        0
-    } else {
-        main.saturating_sub(1) / f.break_every
-    };
+    let breaks = main
+        .saturating_sub(1)
+        .checked_div(f.break_every)
+        .unwrap_or(0);
     let trials = main + f.practice.trials;
     SessionDuration {
         video_seconds,

@@ -26,6 +26,9 @@ use replicate::{Replication, ReplicationSettings};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+/// A t-test's identity: family, the two groups, the level.
+type TestKey = (Grouping, String, String, u32);
+
 /// What to plan.
 #[derive(Clone, Debug)]
 pub struct PlanSettings {
@@ -170,7 +173,7 @@ fn true_differences(
     design: &Design,
     observer: &Observer,
     reps: &[Replication],
-) -> BTreeMap<(Grouping, String, String, u32), f64> {
+) -> BTreeMap<TestKey, f64> {
     let mut out = BTreeMap::new();
     let mean = |family, label: &str, level: u32| {
         let cells = cells_of(design, family, label);
@@ -193,12 +196,11 @@ fn summarise(
     n: usize,
     reps: &[&Replication],
     factor: f64,
-    truths: &BTreeMap<(Grouping, String, String, u32), f64>,
+    truths: &BTreeMap<TestKey, f64>,
 ) -> CountSummary {
     let total = reps.len().max(1) as f64;
     let mut intervals: BTreeMap<GroupKey, (usize, usize)> = BTreeMap::new();
-    let mut tests: BTreeMap<(Grouping, String, String, u32), (usize, usize, usize)> =
-        BTreeMap::new();
+    let mut tests: BTreeMap<TestKey, (usize, usize, usize)> = BTreeMap::new();
     for r in reps {
         for (key, b) in &r.pooled {
             let e = intervals.entry(key.clone()).or_default();

@@ -3,7 +3,7 @@
 
 use super::duration::SessionDuration;
 use super::{Plan, TestRow};
-use crate::figures::{FONT, PALETTE, SIZE, register_font};
+use crate::figures::{Drawable, FONT, PALETTE, register_font, save};
 use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -276,28 +276,27 @@ pub fn write(
             &intervals,
         ),
     ] {
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-            chart(&root, &title, series, plan.alpha)?;
-            root.present()
-                .map_err(|e| anyhow!("drawing failed: {e:?}"))?;
-        }
-        let svg_path = dir.join(format!("{name}.svg"));
-        renderer::atomic::write_atomic(&svg_path, svg.as_bytes())?;
-        let png = dir.join(format!("{name}.png"));
-        let tmp = dir.join(format!(".{name}.{}.tmp.png", std::process::id()));
-        {
-            let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
-            chart(&root, &title, series, plan.alpha)?;
-            root.present()
-                .map_err(|e| anyhow!("cannot write {}: {e:?}", png.display()))?;
-        }
-        std::fs::rename(&tmp, &png).map_err(|e| anyhow!("cannot move {}: {e}", tmp.display()))?;
-        files.push(svg_path);
-        files.push(png);
+        let figure = LineFigure {
+            title: &title,
+            series,
+            alpha: plan.alpha,
+        };
+        files.extend(save(dir, name, &figure)?);
     }
     Ok(files)
+}
+
+/// Probability against subject count, one line per series.
+struct LineFigure<'a> {
+    title: &'a str,
+    series: &'a [(String, Vec<(f64, f64)>)],
+    alpha: f64,
+}
+
+impl Drawable for LineFigure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        chart(root, self.title, self.series, self.alpha)
+    }
 }
 
 fn chart<DB: DrawingBackend>(

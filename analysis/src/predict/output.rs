@@ -4,7 +4,7 @@
 //! point set and time filter, bars spanning the single frames' range).
 
 use super::stimuli::{ConditionPrediction, FrameSpread, Prediction};
-use crate::figures::{FONT, PALETTE, SIZE, file_safe, register_font};
+use crate::figures::{Drawable, FONT, PALETTE, err, file_safe, register_font, save, spp_axes};
 use crate::jnd::Threshold;
 use anyhow::{Result, anyhow};
 use experiment::observer::TARGET;
@@ -159,8 +159,16 @@ fn markdown_text(p: &Prediction) -> String {
     )
 }
 
-fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow!("drawing failed: {e:?}")
+/// One scene's figure.
+struct SceneFigure<'a> {
+    title: String,
+    conditions: Vec<&'a ConditionPrediction>,
+}
+
+impl Drawable for SceneFigure<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        draw_scene(root, &self.title, &self.conditions)
+    }
 }
 
 fn draw(p: &Prediction, dir: &Path) -> Result<Vec<PathBuf>> {
@@ -181,27 +189,11 @@ fn draw(p: &Prediction, dir: &Path) -> Result<Vec<PathBuf>> {
             .filter(|c| c.condition.scene == scene)
             .collect();
         let name = format!("predicted_{}", file_safe(scene));
-        let title = format!("Predicted psychometric function: {scene}");
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-            draw_scene(&root, &title, &conds)?;
-            root.present().map_err(err)?;
-        }
-        let svg_path = dir.join(format!("{name}.svg"));
-        renderer::atomic::write_atomic(&svg_path, svg.as_bytes())?;
-        let png = dir.join(format!("{name}.png"));
-        let tmp = dir.join(format!(".{name}.{}.tmp.png", std::process::id()));
-        {
-            let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
-            draw_scene(&root, &title, &conds)?;
-            root.present()
-                .map_err(|e| anyhow!("cannot write {}: {e:?}", png.display()))?;
-        }
-        std::fs::rename(&tmp, &png)
-            .map_err(|e| anyhow!("cannot move {} to {}: {e}", tmp.display(), png.display()))?;
-        out.push(svg_path);
-        out.push(png);
+        let figure = SceneFigure {
+            title: format!("Predicted psychometric function: {scene}"),
+            conditions: conds,
+        };
+        out.extend(save(dir, &name, &figure)?);
     }
     Ok(out)
 }
@@ -212,30 +204,11 @@ fn draw_scene<DB: DrawingBackend>(
     conds: &[&ConditionPrediction],
 ) -> Result<()> {
     root.fill(&WHITE).map_err(err)?;
-    let mut ticks: Vec<f64> = conds
+    let ticks: Vec<f64> = conds
         .iter()
         .flat_map(|c| c.points.iter().map(|p| p.0 as f64))
         .collect();
-    ticks.sort_by(f64::total_cmp);
-    ticks.dedup();
-    let lo = ticks.first().copied().unwrap_or(1.0).max(1.0);
-    let hi = ticks.last().copied().unwrap_or(2.0).max(lo * 2.0);
-    let (x0, x1) = (lo / 1.5, hi * 1.5);
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, (FONT, 24))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(60)
-        .build_cartesian_2d((x0..x1).log_scale().with_key_points(ticks), 0.3f64..1.05f64)
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("samples per pixel")
-        .y_desc("predicted proportion correct")
-        .x_label_formatter(&|x| format!("{x:.0}"))
-        .label_style((FONT, 14))
-        .draw()
-        .map_err(err)?;
+    let (mut chart, (x0, x1)) = spp_axes(root, title, &ticks, "predicted proportion correct")?;
     for (y, colour) in [(TARGET, RED), (0.5, GREEN)] {
         chart
             .draw_series(DashedLineSeries::new(

@@ -179,7 +179,7 @@ pub fn frame_differences(
             .collect();
         cache.retain(|i, _| needed.contains(i));
         for &i in &needed {
-            if !cache.contains_key(&i) {
+            if let std::collections::btree_map::Entry::Vacant(slot) = cache.entry(i) {
                 let (test, reference) = load(i)?;
                 if test.len() != pixels || reference.len() != pixels {
                     bail!(
@@ -189,7 +189,7 @@ pub fn frame_differences(
                     );
                 }
                 let z = filters.contrast(&test, &reference);
-                cache.insert(i, z);
+                slot.insert(z);
             }
         }
         d.iter_mut().for_each(|x| *x = 0.0);
