@@ -122,7 +122,12 @@ pub fn run(design: &Design, observer: &Observer, s: &PlanSettings) -> Result<Pla
         .par_iter()
         .map(|&(n, r)| {
             let out =
-                replicate::replicate(design, observer, n, r, &s.replication).map(|(rep, _)| rep);
+                replicate::replicate(design, observer, n, r, &s.replication).map(|(mut rep, _)| {
+                    // A test at a level the design does not show has no data: not a result.
+                    rep.comparisons
+                        .retain(|c| design.file.levels.contains(&c.level));
+                    rep
+                });
             bar.inc(1);
             out
         })
