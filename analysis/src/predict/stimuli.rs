@@ -404,6 +404,23 @@ mod tests {
     use super::*;
 
     #[test]
+    fn no_visible_difference_is_exactly_chance() {
+        let pair = Pair {
+            condition: Condition {
+                scene: "s".into(),
+                point_set: "p".into(),
+                time_filter: "t".into(),
+            },
+            spp: 8,
+            test: "s-reference".into(),
+            reference: "s-reference".into(),
+        };
+        let r = row(&pair, &[0.0; 4], 1.0);
+        assert_eq!(r.p_correct, 0.5);
+        assert_eq!([r.p_frame_min, r.p_frame_median, r.p_frame_max], [0.5; 3]);
+    }
+
+    #[test]
     fn thresholds_are_never_extrapolated() {
         // d' = 8 / sqrt(spp): p = 0.75 at spp = (8 / 2.1036)^2 = 14.46.
         let pts: Vec<(u32, f64)> = [1u32, 8, 27, 64]
