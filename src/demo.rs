@@ -4,8 +4,10 @@
 //!    point sets, levels 1..125, a reference per scene) into `stimuli/demo/` — resumable, so a
 //!    second run reuses every finished frame;
 //! 2. check it the way a session would (preflight of `scenes/designs/demo.json`);
-//! 3. run simulated subjects (`scenes/observers/thesis.json`: the thesis's JNDs, 40 spp for the
-//!    plane scene and 100 for the spheres) through that design into `results/demo/sessions/`;
+//! 3. predict from the stimuli how visible each one's noise is (`blurlab predict`, into
+//!    `results/demo/predict/`), and run simulated subjects who answer from that prediction
+//!    (`--observer FILE` instead: typed-in thresholds, e.g. `scenes/observers/thesis.json`, the
+//!    thesis's JNDs) through that design into `results/demo/sessions/`;
 //! 4. analyze them into `results/demo/report/` (fits, JNDs, t-tests, figures) and tabulate the
 //!    stimuli's speed against error beside them (`results/demo/report/convergence/`);
 //! 5. write `results/demo/summary.md` and print where everything is.
@@ -19,7 +21,6 @@ use std::time::Instant;
 /// The demo's inputs, relative to the project root.
 const JOB: &str = "scenes/jobs/demo.json";
 const DESIGN: &str = "scenes/designs/demo.json";
-const OBSERVER: &str = "scenes/observers/thesis.json";
 
 /// Render a small stimulus set, run simulated subjects through it, and write the report.
 #[derive(Args, Clone, Debug)]
@@ -40,6 +41,10 @@ pub struct DemoArgs {
     /// Hide progress bars.
     #[arg(long)]
     pub no_progress: bool,
+    /// Simulated subjects answer from this observer file (e.g. scenes/observers/thesis.json)
+    /// instead of the prediction from the stimuli.
+    #[arg(long)]
+    pub observer: Option<PathBuf>,
 }
 
 /// Where the demo put its files.
@@ -55,6 +60,12 @@ pub struct DemoOutput {
     pub frames_reused: u64,
     /// The analysis's summary (JND per scene and point set, test counts), for printing.
     pub jnd_summary: analysis::summary::Summary,
+    /// The prediction from the stimuli (`results/demo/predict/`).
+    pub prediction: analysis::predict::stimuli::Prediction,
+    /// The observer's JND next to the recovered one, per pooled group.
+    pub side_by_side: Vec<analysis::predict::compare::JndPair>,
+    /// The simulated subjects' observer: `predicted.csv` or the given file.
+    pub observer: PathBuf,
 }
 
 /// Run the demo.
@@ -66,11 +77,11 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         .unwrap_or_else(|| root.join("results").join("demo"));
     let t0 = Instant::now();
 
-    eprintln!("[1/4] rendering stimuli ({JOB})");
+    eprintln!("[1/5] rendering stimuli ({JOB})");
     let (stimuli, manifest, frames_rendered, frames_reused) = render(&root, !args.no_progress)?;
     let t_render = t0.elapsed().as_secs_f64();
 
-    eprintln!("[2/4] checking the stimuli against the design ({DESIGN})");
+    eprintln!("[2/5] checking the stimuli against the design ({DESIGN})");
     let design = experiment::Design::load(&root.join(DESIGN))?;
     let checks = experiment::preflight::PreflightOptions {
         check_hashes: true,
@@ -78,13 +89,30 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
     };
     experiment::preflight::preflight(&design, checks).into_result()?;
 
-    eprintln!("[3/4] simulating {} subjects ({OBSERVER})", args.subjects);
-    let observer = experiment::Observer::load(&root.join(OBSERVER))?;
+    eprintln!("[3/5] predicting visibility from the stimuli");
+    let predicted = analysis::predict::command::run(&analysis::predict::command::PredictArgs {
+        stimuli: stimuli.clone(),
+        design: Some(root.join(DESIGN)),
+        out: Some(out.join("predict")),
+        sensitivity: analysis::predict::decision::DEFAULT_K,
+        calibrate: Vec::new(),
+        no_progress: args.no_progress,
+    })?;
+    let observer_path = match &args.observer {
+        Some(p) => p.clone(),
+        None => predicted.files.predicted_csv.clone(),
+    };
+    eprintln!(
+        "[4/5] simulating {} subjects ({})",
+        args.subjects,
+        observer_path.display()
+    );
+    let observer = experiment::Observer::load(&observer_path)?;
     let sessions = out.join("sessions");
     clear_logs(&sessions)?;
     experiment::simulate::simulate(&design, &observer, args.subjects, &sessions)?;
 
-    eprintln!("[4/4] analyzing");
+    eprintln!("[5/5] analyzing");
     let report = out.join("report");
     let mut analyze = analysis::cli::AnalyzeArgs::new(vec![sessions.clone()], report.clone());
     analyze.bootstrap = args.bootstrap;
@@ -93,6 +121,8 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
     renderer::convergence::write_report(&stimuli, &convergence)?;
 
     let jnd_summary = analysis_report.summary();
+    let side_by_side =
+        analysis::predict::compare::side_by_side(&analysis_report, &design, &observer);
     let summary = out.join("summary.md");
     let text = crate::summary::markdown(&crate::summary::Inputs {
         manifest: &manifest,
@@ -100,6 +130,11 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         report: &report,
         convergence: &convergence,
         jnd: &jnd_summary,
+        prediction: Some(crate::summary::PredictionInputs {
+            prediction: &predicted.prediction,
+            side_by_side: &side_by_side,
+            observer: &observer.file.name,
+        }),
         render_seconds: t_render,
         total_seconds: t0.elapsed().as_secs_f64(),
     })?;
@@ -113,6 +148,9 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         frames_rendered,
         frames_reused,
         jnd_summary,
+        prediction: predicted.prediction,
+        side_by_side,
+        observer: observer_path,
     })
 }
 

@@ -23,7 +23,14 @@ enum Command {
     Simulate(experiment::cli::SimulateArgs),
     /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
     Analyze(analysis::cli::AnalyzeArgs),
-    /// The whole study on built-in defaults: render the demo stimuli, simulate 12 subjects,
+    /// Predict how visible each stimulus's noise is from its display frames (contrast
+    /// sensitivity, masking, pooling, the two-pair task): predicted.csv, JNDs, figures.
+    Predict(analysis::predict::command::PredictArgs),
+    /// How many subjects a design needs: simulate it many times with a known observer and
+    /// analyse each simulation (interval widths, power, false positives, session length).
+    Plan(analysis::plan::command::PlanArgs),
+    /// The whole study on built-in defaults: render the demo stimuli, predict their visibility,
+    /// simulate 12 subjects answering from the prediction,
     /// analyze, and write results/demo/.
     Demo(blurlab::demo::DemoArgs),
 }
@@ -31,11 +38,37 @@ enum Command {
 fn demo(args: &blurlab::demo::DemoArgs) -> anyhow::Result<()> {
     let out = blurlab::demo::run(args)?;
     println!("\n{}\n", out.jnd_summary);
+    println!(
+        "{}",
+        analysis::predict::compare::markdown(
+            &out.side_by_side,
+            &out.observer.display().to_string()
+        )
+    );
     println!("stimuli:   {}", out.stimuli.display());
     println!("sessions:  {}", out.sessions.display());
     println!("report:    {}", out.report.join("report.md").display());
     println!("speed/err: {}", out.convergence.display());
     println!("summary:   {}", out.summary.display());
+    Ok(())
+}
+
+fn predict(args: &analysis::predict::command::PredictArgs) -> anyhow::Result<()> {
+    let out = analysis::predict::command::run(args)?;
+    if let Some(c) = &out.calibration {
+        println!("calibrated sensitivity constant k = {:.4}", c.k);
+    }
+    println!("{}", analysis::predict::output::jnd_table(&out.prediction));
+    println!("prediction: {}", out.files.predicted_csv.display());
+    println!("report:     {}", out.files.markdown.display());
+    Ok(())
+}
+
+fn plan(args: &analysis::plan::command::PlanArgs) -> anyhow::Result<()> {
+    let out = analysis::plan::command::run(args)?;
+    let md = out.files.first().expect("plan.md is written first");
+    println!("{}", std::fs::read_to_string(md)?);
+    println!("plan: {}", md.display());
     Ok(())
 }
 
@@ -46,6 +79,8 @@ fn main() {
         Command::Run(args) => experiment::cli::run(args),
         Command::Simulate(args) => experiment::cli::simulate(args),
         Command::Analyze(args) => analysis::cli::run(args),
+        Command::Predict(args) => predict(&args),
+        Command::Plan(args) => plan(&args),
         Command::Demo(args) => demo(&args),
     };
     if let Err(e) = result {

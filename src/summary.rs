@@ -18,8 +18,18 @@ pub struct Inputs<'a> {
     pub report: &'a Path,
     pub convergence: &'a Path,
     pub jnd: &'a Summary,
+    /// The prediction from the stimuli and the JNDs it implies next to the recovered ones.
+    pub prediction: Option<PredictionInputs<'a>>,
     pub render_seconds: f64,
     pub total_seconds: f64,
+}
+
+/// The prediction's part of the summary.
+pub struct PredictionInputs<'a> {
+    pub prediction: &'a analysis::predict::stimuli::Prediction,
+    pub side_by_side: &'a [analysis::predict::compare::JndPair],
+    /// The simulated subjects' observer.
+    pub observer: &'a str,
 }
 
 /// The summary as Markdown.
@@ -40,6 +50,9 @@ pub fn markdown(inp: &Inputs) -> Result<String> {
         inp.total_seconds
     )?;
     jnd_table(&mut s, inp.jnd)?;
+    if let Some(p) = &inp.prediction {
+        prediction_section(&mut s, p)?;
+    }
     error_at_jnd(&mut s, inp.jnd, &rows)?;
     speed_table(&mut s, &rows)?;
     Ok(s)
@@ -74,6 +87,34 @@ fn jnd_table(s: &mut String, jnd: &Summary) -> Result<()> {
         s,
         "\nt-tests: {} of {} significant at alpha = {} ({} after Holm's correction).\n",
         jnd.significant, jnd.tests, jnd.alpha, jnd.significant_holm
+    )?;
+    Ok(())
+}
+
+fn prediction_section(s: &mut String, p: &PredictionInputs) -> Result<()> {
+    writeln!(
+        s,
+        "## Predicted from the stimuli
+"
+    )?;
+    writeln!(
+        s,
+        "How visible each stimulus's noise is, computed from its display frames (stelaCSF, \
+         masking by the reference, pooling, the two-pair task's decision rule; `docs/predict.md`; \
+         sensitivity constant k = {}, uncalibrated unless stated). Files in `predict/`.\n",
+        p.prediction.k
+    )?;
+    writeln!(s, "{}", analysis::predict::output::jnd_table(p.prediction))?;
+    writeln!(
+        s,
+        "Simulated subjects answered from observer `{}`. Its JND (the 0.75 crossing of the \
+         population's pooled curve) next to the JND the analysis recovered:\n",
+        p.observer
+    )?;
+    writeln!(
+        s,
+        "{}",
+        analysis::predict::compare::markdown(p.side_by_side, p.observer)
     )?;
     Ok(())
 }

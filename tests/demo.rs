@@ -30,6 +30,7 @@ fn demo_writes_the_report_and_reuses_its_stimuli() {
         subjects: 12,
         bootstrap: 1000,
         no_progress: true,
+        observer: None,
     };
     let first = run(&args).unwrap();
     assert!(first.frames_rendered > 0 && first.frames_reused == 0);
@@ -58,6 +59,27 @@ fn demo_writes_the_report_and_reuses_its_stimuli() {
         );
     }
     assert!(!summary.to_lowercase().contains("nan"), "{summary}");
+    // The prediction from the stimuli: every condition's predicted proportion correct falls
+    // (or stays) as spp rises, and the summary shows it beside the recovered JNDs.
+    assert!(results.join("predict/predicted.csv").is_file());
+    assert!(!first.prediction.conditions.is_empty());
+    for c in &first.prediction.conditions {
+        for w in c.points.windows(2) {
+            assert!(
+                w[1].2 <= w[0].2,
+                "{:?}: predicted p rises from {} spp ({}) to {} spp ({})",
+                c.condition,
+                w[0].0,
+                w[0].2,
+                w[1].0,
+                w[1].2
+            );
+        }
+    }
+    assert!(first.observer.ends_with("predicted.csv"));
+    for needle in ["## Predicted from the stimuli", "recovered JND"] {
+        assert!(summary.contains(needle), "summary lacks {needle:?}");
+    }
     let scenes: Vec<_> = first
         .jnd_summary
         .rows

@@ -11,19 +11,24 @@
 //!     significant at the test's exact size, close to the nominal 5%, and Holm's correction
 //!     keeps the family-wise rate at or below 5%.
 //!
+//! The replications run through `analysis::plan` (the `blurlab plan` command's code:
+//! `plan::replicate` per replication, `plan::run` over all of them), so the exact power and
+//! size checked here are also checks of the plan's rates.
+//!
 //! The CI test uses 39 bootstrap resamples (see `expected_coverage`) and 100 replications;
 //! the ignored tests are the precise versions (release build; commands on each).
 
 mod support;
 
-use analysis::bootstrap::{BootstrapResult, BootstrapSettings, Bound, bootstrap};
-use analysis::comparisons::{Comparison, compare};
+use analysis::bootstrap::{BootstrapResult, BootstrapSettings, Bound};
+use analysis::comparisons::Comparison;
 use analysis::data::{Dataset, GroupKey, Grouping};
+use analysis::plan::replicate::{ReplicationSettings, replicate as plan_replicate};
+use analysis::plan::{Plan, PlanSettings};
 use analysis::psychometric::fit;
 use analysis::report::{Settings, analyze};
 use experiment::Observer;
-use experiment::simulate::{simulate, subject_name};
-use rayon::prelude::*;
+use experiment::simulate::subject_name;
 use std::collections::BTreeMap;
 use support::paired_t::{Rejection, rejection_probability};
 use support::thesis_study::*;
@@ -116,46 +121,46 @@ fn population_truths(obs: &Observer, keys: &[GroupKey]) -> BTreeMap<GroupKey, f6
         .collect()
 }
 
-/// One replication through the real pipeline: design file, simulated session logs, the
-/// analysis reading them back.
-fn replicate(rep: u64, resamples: usize, population: &BTreeMap<GroupKey, f64>) -> Replication {
-    let dir = tempfile::tempdir().expect("temporary folder");
-    let design = write_design(dir.path(), DESIGN_SEED + rep);
-    // `simulate` needs no manifest: the design names stimuli by id, and no frame is shown.
-    assert!(!design.manifest_path.exists());
-    let obs = observer(OBSERVER_SEED + rep);
-    let sessions = dir.path().join("sessions");
-    let logs = simulate(&design, &obs, SUBJECTS, &sessions).expect("simulation");
-    assert_eq!(logs.len(), SUBJECTS);
-    let ds = Dataset::read(&[sessions]).expect("the simulated logs are readable");
+/// What one replication of `analysis::plan` contributes to the checks. Replication r has
+/// design seed DESIGN_SEED + r, observer seed OBSERVER_SEED + r and bootstrap seed r.
+fn outcome(
+    rep: &analysis::plan::replicate::Replication,
+    population: &BTreeMap<GroupKey, f64>,
+) -> Replication {
     assert_eq!(
-        ds.trials,
+        rep.trials,
         SUBJECTS * 2 * 3 * LEVELS.len() * REPEATS as usize
     );
-    assert_eq!(ds.design_hash, design.hash);
-
-    // The pooled fits, their intervals and the tests: what `analysis::report::analyze` does
-    // without the per-subject fits (four fifths of its time, and not used here).
-    let s = settings(rep, resamples);
-    let pooled: Vec<(GroupKey, BootstrapResult)> = ds
-        .groups
-        .iter()
-        .map(|g| {
-            let f = fit(&g.pooled, &s.fit);
-            (g.key.clone(), bootstrap(&f, g.key.id(), &s.bootstrap))
-        })
-        .collect();
-    let comparisons = compare(&ds, &s.comparisons);
-    if rep == 0 {
-        assert_same_as_report(&ds, &s, &pooled, &comparisons);
-    }
+    let obs = observer(OBSERVER_SEED + rep.index);
     Replication {
-        coverage: pooled
+        coverage: rep
+            .pooled
             .iter()
             .map(|(key, boot)| coverage(&obs, key, boot, population[key]))
             .collect(),
-        ..tests_outcome(&comparisons)
+        ..tests_outcome(&rep.comparisons)
     }
+}
+
+fn replication_settings(resamples: usize) -> ReplicationSettings {
+    ReplicationSettings {
+        analysis: settings(0, resamples),
+        groupings: vec![Grouping::Condition, Grouping::Scene, Grouping::PointSet],
+    }
+}
+
+/// Replication 0 through `plan::replicate`, against the full report of its dataset: the
+/// pooled-only shortcut gives exactly the report's intervals and tests.
+fn check_replication_matches_report(resamples: usize) {
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let design = write_design(dir.path(), DESIGN_SEED);
+    // `simulate` needs no manifest: the design names stimuli by id, and no frame is shown.
+    assert!(!design.manifest_path.exists());
+    let obs = observer(OBSERVER_SEED);
+    let (rep, ds) = plan_replicate(&design, &obs, SUBJECTS, 0, &replication_settings(resamples))
+        .expect("replication 0");
+    assert_eq!(ds.design_hash, design.hash);
+    assert_same_as_report(&ds, &settings(0, resamples), &rep.pooled, &rep.comparisons);
 }
 
 /// The shortcut above gives exactly the full report's intervals and tests.
@@ -230,22 +235,29 @@ fn tests_outcome(comparisons: &[Comparison]) -> Replication {
     r
 }
 
-/// Run `n` replications (in parallel; each is a pure function of its index).
-fn run(n: u64, resamples: usize) -> Vec<Replication> {
+/// Run `n` replications through `analysis::plan::run` (in parallel; each is a pure function
+/// of its index); returns the checks' view of each and the plan's summary.
+fn run(n: u64, resamples: usize) -> (Vec<Replication>, Plan) {
     let obs = observer(OBSERVER_SEED);
-    let keys: Vec<GroupKey> = {
-        let dir = tempfile::tempdir().expect("temporary folder");
-        let design = write_design(dir.path(), DESIGN_SEED);
-        let sessions = dir.path().join("sessions");
-        simulate(&design, &obs, 1, &sessions).expect("simulation");
-        let ds = Dataset::read(&[sessions]).expect("readable log");
-        ds.groups.iter().map(|g| g.key.clone()).collect()
-    };
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let design = write_design(dir.path(), DESIGN_SEED);
+    let plan = analysis::plan::run(
+        &design,
+        &obs,
+        &PlanSettings {
+            subjects: vec![SUBJECTS],
+            replications: n,
+            factor: 2.0,
+            replication: replication_settings(resamples),
+            keep_replications: true,
+            progress: false,
+        },
+    )
+    .expect("the plan runs");
+    let keys: Vec<GroupKey> = plan.kept[0].pooled.iter().map(|(k, _)| k.clone()).collect();
     let population = population_truths(&obs, &keys);
-    (0..n)
-        .into_par_iter()
-        .map(|rep| replicate(rep, resamples, &population))
-        .collect()
+    let reps = plan.kept.iter().map(|r| outcome(r, &population)).collect();
+    (reps, plan)
 }
 
 /// Expected coverage of the analysis's interval with R resamples: it runs from the (k+1)-th
@@ -351,7 +363,7 @@ fn poisson_upper_tail(lambda: f64, k: usize) -> f64 {
 /// 5e-4 per replication, largest at 216 spp): their count is binomial with a tiny rate, i.e.
 /// Poisson(N q); a count whose upper tail is below 0.00135 (the one-sided 3 sd tail of a
 /// normal) fails. At the most sensitive level most replications must find the difference.
-fn check_scene_power(reps: &[Replication]) {
+fn check_scene_power(reps: &[Replication], plan: &Plan) {
     let n = reps.len();
     let mut best = (0, 0.0, 0.0);
     for level in [27, 64, 125, 216] {
@@ -363,6 +375,14 @@ fn check_scene_power(reps: &[Replication]) {
             .collect();
         assert_eq!(tests.len(), n);
         let observed = rate(tests.iter().filter(|t| t.significant).count(), n);
+        // The plan's power is this rate, and it knows the observer's true difference.
+        let row = plan.counts[0]
+            .tests
+            .iter()
+            .find(|t| t.family == Grouping::Scene && t.level == level)
+            .expect("the plan has the scene test");
+        assert_eq!(row.significant, observed);
+        assert!(row.has_difference() && row.true_difference < 0.0, "{row:?}");
         let sd = binomial_sd(power, n);
         let wrong_way = tests
             .iter()
@@ -408,8 +428,17 @@ fn check_scene_power(reps: &[Replication]) {
 /// replication has variance at most 3 x 9 s (1 - s), i.e. the rate's sd is at most
 /// sqrt(s (1 - s) / (3 N)). Tolerance 3 sd. Holm's correction bounds the family-wise rate by
 /// alpha for valid p-values; allowed: alpha + 3 binomial sd over replications.
-fn check_point_sets(reps: &[Replication]) {
+fn check_point_sets(reps: &[Replication], plan: &Plan) {
     let n = reps.len();
+    // The plan sees no true difference between point sets: its rates are false positives.
+    let rows: Vec<_> = plan.counts[0]
+        .tests
+        .iter()
+        .filter(|t| t.family == Grouping::PointSet)
+        .collect();
+    assert_eq!(rows.len(), 9);
+    assert!(rows.iter().all(|t| !t.has_difference()), "{rows:?}");
+    let plan_rate = rows.iter().map(|t| t.significant).sum::<f64>() / 9.0;
     let size = [27, 64, 125].map(point_set_size);
     let expected = size.iter().sum::<f64>() / 3.0;
     for s in size {
@@ -421,6 +450,10 @@ fn check_point_sets(reps: &[Replication]) {
     let hits: usize = reps.iter().map(|r| r.point_set_significant).sum();
     let undefined: usize = reps.iter().map(|r| r.point_set_undefined).sum();
     let observed = rate(hits, tests);
+    assert!(
+        (plan_rate - observed).abs() < 1e-12,
+        "{plan_rate} vs {observed}"
+    );
     let sd = (expected * (1.0 - expected) / (3 * n) as f64).sqrt();
     let counts: Vec<f64> = reps
         .iter()
@@ -447,14 +480,15 @@ fn check_point_sets(reps: &[Replication]) {
 
 fn check_all(n: u64, resamples: usize) {
     let t = std::time::Instant::now();
-    let reps = run(n, resamples);
+    check_replication_matches_report(resamples);
+    let (reps, plan) = run(n, resamples);
     eprintln!(
         "{n} replications with {resamples} resamples in {:.1} s",
         t.elapsed().as_secs_f64()
     );
     check_coverage(&reps, resamples);
-    check_scene_power(&reps);
-    check_point_sets(&reps);
+    check_scene_power(&reps, &plan);
+    check_point_sets(&reps, &plan);
 }
 
 #[test]

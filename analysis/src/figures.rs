@@ -17,12 +17,12 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
 
-const SIZE: (u32, u32) = (800, 600);
-const FONT: &str = "sans-serif";
+pub(crate) const SIZE: (u32, u32) = (800, 600);
+pub(crate) const FONT: &str = "sans-serif";
 
 /// Colours of overlaid series: never red or green, which mark the target and chance lines
 /// (the thesis's dashed red and green).
-const PALETTE: [RGBColor; 6] = [
+pub(crate) const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(0, 0, 0),
@@ -31,7 +31,7 @@ const PALETTE: [RGBColor; 6] = [
     RGBColor(23, 190, 207),
 ];
 
-fn register_font() -> Result<()> {
+pub(crate) fn register_font() -> Result<()> {
     static ONCE: Once = Once::new();
     let mut result = Ok(());
     ONCE.call_once(|| {
@@ -96,29 +96,98 @@ pub fn draw_all(report: &Report, dir: &Path) -> Result<Vec<String>> {
         }
     }
     for f in &figures {
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-            draw(&root, f, target, guess)?;
-            root.present().map_err(|e| anyhow!("{e:?}"))?;
-        }
-        renderer::atomic::write_atomic(&dir.join(format!("{}.svg", f.name)), svg.as_bytes())?;
-        let png = dir.join(format!("{}.png", f.name));
-        // plotters picks the encoder from the extension, so the temporary keeps `.png`.
-        let tmp = dir.join(format!(".{}.{}.tmp.png", f.name, std::process::id()));
-        {
-            let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
-            draw(&root, f, target, guess)?;
-            root.present()
-                .map_err(|e| anyhow!("cannot write {}: {e:?}", png.display()))?;
-        }
-        std::fs::rename(&tmp, &png)
-            .map_err(|e| anyhow!("cannot move {} to {}: {e}", tmp.display(), png.display()))?;
+        save(
+            dir,
+            &f.name,
+            &Thesis {
+                figure: f,
+                target,
+                guess,
+            },
+        )?;
     }
     Ok(figures.into_iter().map(|f| f.name).collect())
 }
 
-fn file_safe(s: &str) -> String {
+/// A figure drawable on any plotters backend (so one drawing makes both the SVG and the PNG).
+pub(crate) trait Drawable {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>;
+}
+
+struct Thesis<'a> {
+    figure: &'a Figure<'a>,
+    target: f64,
+    guess: f64,
+}
+
+impl Drawable for Thesis<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()> {
+        draw(root, self.figure, self.target, self.guess)
+    }
+}
+
+/// Write `<name>.svg` and `<name>.png` into `dir`, each replaced atomically; returns both paths.
+pub(crate) fn save(dir: &Path, name: &str, d: &impl Drawable) -> Result<[std::path::PathBuf; 2]> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        d.draw(&root)?;
+        root.present().map_err(|e| anyhow!("{e:?}"))?;
+    }
+    let svg_path = dir.join(format!("{name}.svg"));
+    renderer::atomic::write_atomic(&svg_path, svg.as_bytes())?;
+    let png = dir.join(format!("{name}.png"));
+    // plotters picks the encoder from the extension, so the temporary keeps `.png`.
+    let tmp = dir.join(format!(".{name}.{}.tmp.png", std::process::id()));
+    {
+        let root = BitMapBackend::new(&tmp, SIZE).into_drawing_area();
+        d.draw(&root)?;
+        root.present()
+            .map_err(|e| anyhow!("cannot write {}: {e:?}", png.display()))?;
+    }
+    std::fs::rename(&tmp, &png)
+        .map_err(|e| anyhow!("cannot move {} to {}: {e}", tmp.display(), png.display()))?;
+    Ok([svg_path, png])
+}
+
+/// Axes of proportion correct against spp: a log axis with ticks at the levels and a little
+/// room either side; returns the chart and its x range.
+pub(crate) fn spp_axes<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    levels: &[f64],
+    y0: f64,
+    y_desc: &str,
+) -> Result<(Chart<'a, DB>, (f64, f64))> {
+    let lo = levels
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .max(1.0);
+    let hi = levels.iter().copied().fold(1.0, f64::max).max(2.0);
+    let (x0, x1) = (lo / 1.5, hi * 1.5);
+    let mut ticks: Vec<f64> = levels.to_vec();
+    ticks.sort_by(f64::total_cmp);
+    ticks.dedup();
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, (FONT, 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d((x0..x1).log_scale().with_key_points(ticks), y0..1.05f64)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("samples per pixel")
+        .y_desc(y_desc)
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .label_style((FONT, 14))
+        .draw()
+        .map_err(err)?;
+    Ok((chart, (x0, x1)))
+}
+
+pub(crate) fn file_safe(s: &str) -> String {
     s.chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' {
@@ -130,7 +199,7 @@ fn file_safe(s: &str) -> String {
         .collect()
 }
 
-fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+pub(crate) fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("drawing failed: {e:?}")
 }
 
@@ -146,31 +215,9 @@ fn draw<DB: DrawingBackend>(
         .iter()
         .flat_map(|g| g.levels.iter().map(|l| l.level))
         .collect();
-    let lo = levels.iter().copied().min().unwrap_or(1).max(1) as f64;
-    let hi = levels.iter().copied().max().unwrap_or(1).max(2) as f64;
-    // A little room either side on the log axis; ticks at the tested levels, as the thesis.
-    let (x0, x1) = (lo / 1.5, hi * 1.5);
-    let mut ticks: Vec<f64> = levels.iter().map(|&l| l as f64).collect();
-    ticks.sort_by(f64::total_cmp);
-    ticks.dedup();
-    let mut chart = ChartBuilder::on(root)
-        .caption(&f.title, (FONT, 24))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(60)
-        .build_cartesian_2d(
-            (x0..x1).log_scale().with_key_points(ticks),
-            (guess - 0.2).clamp(0.0, 0.3)..1.05f64,
-        )
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("samples per pixel")
-        .y_desc("proportion correct")
-        .x_label_formatter(&|x| format!("{x:.0}"))
-        .label_style((FONT, 14))
-        .draw()
-        .map_err(err)?;
+    let ticks: Vec<f64> = levels.iter().map(|&l| l as f64).collect();
+    let y0 = (guess - 0.2).clamp(0.0, 0.3);
+    let (mut chart, (x0, x1)) = spp_axes(root, &f.title, &ticks, y0, "proportion correct")?;
     for (y, colour, label) in [(target, RED, "JND threshold"), (guess, GREEN, "chance")] {
         chart
             .draw_series(DashedLineSeries::new(
@@ -242,7 +289,7 @@ fn legend_labels(groups: &[&GroupResult]) -> Vec<String> {
         .collect()
 }
 
-type Chart<'a, DB> = ChartContext<
+pub(crate) type Chart<'a, DB> = ChartContext<
     'a,
     DB,
     Cartesian2d<

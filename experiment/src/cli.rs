@@ -38,7 +38,8 @@ pub struct SimulateArgs {
     /// The design file (blurlab-design/1).
     #[arg(long)]
     pub design: PathBuf,
-    /// The observer file (blurlab-observer/1).
+    /// The observer: a file of typed-in thresholds (blurlab-observer/1) or a prediction from
+    /// the stimuli (`blurlab predict`'s predicted.csv, blurlab-predicted/1).
     #[arg(long)]
     pub observer: PathBuf,
     /// Number of subjects (named s01, s02, ...).

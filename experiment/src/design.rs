@@ -51,6 +51,9 @@ pub struct DesignFile {
     /// Text of the instructions screen (a default explains the task and the keys).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub instructions: Option<String>,
+    /// The display, for predicting visibility (`blurlab predict`); default: the thesis's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub display: Option<crate::display::DisplaySpec>,
 }
 
 /// The crossed factors; a condition is one scene x point set x time filter.
@@ -369,6 +372,9 @@ fn validate(f: &DesignFile) -> Result<()> {
                 f.levels
             );
         }
+    }
+    if let Some(d) = &f.display {
+        d.validate()?;
     }
     validate_keys(&f.keys)
 }

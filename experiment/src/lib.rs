@@ -8,6 +8,7 @@
 pub mod app;
 pub mod cli;
 pub mod design;
+pub mod display;
 pub mod fixture;
 pub mod frames;
 pub mod keys;
@@ -15,6 +16,7 @@ pub mod layout;
 pub mod log;
 pub mod log_writer;
 pub mod observer;
+pub mod predicted;
 pub mod preflight;
 pub mod presentation;
 pub mod refresh;

@@ -8,8 +8,15 @@
 //! should recover (with lapse = 0, c = 0 and this is the plain logistic of the analysis crate).
 //! Each subject's T is the condition's threshold times exp(spread (u - 1/2)), u uniform from
 //! the subject's name: subjects differ in sensitivity, not in which condition is harder.
+//!
+//! A *predicted* observer answers from `blurlab predict`'s `predicted.csv` instead of typed-in
+//! thresholds: `simulate --observer predicted.csv`, or an observer file whose `predicted` field
+//! names that file (to set `subject_spread`, `lapse`, `seed`). Its p(spp) is the predicted
+//! curve of the condition (`crate::predicted::Curve`), scaled by the same per-subject factor:
+//! p_subject(spp) = (1 - 2 lapse) p_pred(spp / f) + lapse, f = exp(spread (u - 1/2)).
 
 use crate::design::Design;
+use crate::predicted::PredictedTable;
 use crate::trials::{Condition, Trial, conditions};
 use anyhow::{Context, Result, bail};
 use renderer::hash::{hash, name_id, unit_f64};
@@ -28,7 +35,8 @@ pub const TARGET: f64 = 0.75;
 pub struct ObserverFile {
     pub format: String,
     pub name: String,
-    /// Logistic slope in 1 / ln spp (> 0).
+    /// Logistic slope in 1 / ln spp (> 0; threshold observers only).
+    #[serde(default, skip_serializing_if = "is_zero")]
     pub slope: f64,
     /// Lapse rate in [0, 0.25): the best an observer does is 1 - lapse.
     #[serde(default)]
@@ -40,12 +48,24 @@ pub struct ObserverFile {
     #[serde(default = "default_seed")]
     pub seed: u64,
     /// Threshold rules; a condition takes the first rule whose given factors all match.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub thresholds: Vec<ThresholdRule>,
+    /// A `predicted.csv` (relative to this file) to answer from instead of `thresholds`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub predicted: Option<String>,
 }
 
 fn default_seed() -> u64 {
     1
 }
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+/// Subject spread of a predicted observer given as a bare `predicted.csv`: the thesis
+/// observer's (`scenes/observers/thesis.json`).
+pub const PREDICTED_SUBJECT_SPREAD: f64 = 0.6;
 
 /// The threshold (spp at p = 0.75) of the conditions a rule matches; absent factors match all.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -74,15 +94,30 @@ impl ThresholdRule {
 pub struct Observer {
     pub path: PathBuf,
     pub file: ObserverFile,
+    /// The prediction a predicted observer answers from.
+    pub predicted: Option<PredictedTable>,
 }
 
 impl Observer {
+    /// An observer file (JSON), or a `predicted.csv` (by its `.csv` extension).
     pub fn load(path: &Path) -> Result<Self> {
+        if path.extension().is_some_and(|e| e == "csv") {
+            return Ok(Self::from_prediction(path, PredictedTable::load(path)?));
+        }
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read observer file {}", path.display()))?;
-        Self::parse(path, &text)
+        let mut o = Self::parse(path, &text)?;
+        if let Some(p) = &o.file.predicted {
+            let csv = path.parent().unwrap_or(Path::new("")).join(p);
+            o.predicted = Some(
+                PredictedTable::load(&csv)
+                    .with_context(|| format!("{}: field `predicted`", path.display()))?,
+            );
+        }
+        Ok(o)
     }
 
+    /// Parse an observer file; a `predicted` file it names is not read (see [`Self::load`]).
     pub fn parse(path: &Path, text: &str) -> Result<Self> {
         let file: ObserverFile = serde_json::from_str(text)
             .with_context(|| format!("{}: not a valid observer file", path.display()))?;
@@ -90,11 +125,37 @@ impl Observer {
         Ok(Self {
             path: path.to_path_buf(),
             file,
+            predicted: None,
         })
     }
 
-    /// The condition's threshold (spp), from the first matching rule.
+    /// A predicted observer with the defaults of a bare `predicted.csv`: the thesis
+    /// observer's subject spread, no lapse, seed 1.
+    pub fn from_prediction(path: &Path, table: PredictedTable) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            file: ObserverFile {
+                format: OBSERVER_FORMAT.into(),
+                name: path
+                    .file_stem()
+                    .map_or("predicted".into(), |s| s.to_string_lossy().into_owned()),
+                slope: 0.0,
+                lapse: 0.0,
+                subject_spread: PREDICTED_SUBJECT_SPREAD,
+                seed: default_seed(),
+                thresholds: Vec::new(),
+                predicted: Some(path.display().to_string()),
+            },
+            predicted: Some(table),
+        }
+    }
+
+    /// The condition's threshold (spp at p = 0.75): from the first matching rule, or where the
+    /// predicted curve crosses 0.75.
     pub fn threshold(&self, c: &Condition) -> Option<f64> {
+        if let Some(t) = &self.predicted {
+            return t.curve(c).and_then(|curve| curve.spp_at(TARGET));
+        }
         self.file
             .thresholds
             .iter()
@@ -102,12 +163,60 @@ impl Observer {
             .map(|r| r.spp)
     }
 
+    /// Whether the observer has an answer for a condition.
+    fn covers(&self, c: &Condition) -> bool {
+        match &self.predicted {
+            Some(t) => t.curve(c).is_some(),
+            None => self.threshold(c).is_some(),
+        }
+    }
+
+    /// A subject's threshold factor f = exp(spread (u - 1/2)).
+    pub fn subject_factor(&self, subject: &str) -> f64 {
+        let u = unit_f64(hash(self.file.seed, &[name_id(subject), 0x5b]));
+        (self.file.subject_spread * (u - 0.5)).exp()
+    }
+
+    /// Probability that `subject` answers a trial of condition `c` at `spp` correctly.
+    pub fn p_subject(&self, c: &Condition, subject: &str, spp: f64) -> Option<f64> {
+        self.p_factor(c, self.subject_factor(subject), spp)
+    }
+
+    /// Probability correct at `spp` in condition `c` for a subject of threshold factor `f`.
+    pub fn p_factor(&self, c: &Condition, f: f64, spp: f64) -> Option<f64> {
+        match &self.predicted {
+            Some(t) => {
+                let p = t.curve(c)?.p_correct_at(spp / f);
+                let lapse = self.file.lapse;
+                Some((1.0 - 2.0 * lapse) * p + lapse)
+            }
+            None => self.threshold(c).map(|t| self.p_correct(t * f, spp)),
+        }
+    }
+
+    /// The population's mean probability correct in condition `c` at `spp`: the subject factor
+    /// integrated over u (200 midpoint nodes).
+    pub fn p_population(&self, c: &Condition, spp: f64) -> Option<f64> {
+        let n = 200;
+        let mut sum = 0.0;
+        for i in 0..n {
+            let u = (i as f64 + 0.5) / n as f64;
+            sum += self.p_factor(c, (self.file.subject_spread * (u - 0.5)).exp(), spp)?;
+        }
+        Some(sum / n as f64)
+    }
+
     /// Refuse a design with a condition no rule covers.
     pub fn check_covers(&self, design: &Design) -> Result<()> {
+        let field = if self.predicted.is_some() {
+            "predicted"
+        } else {
+            "thresholds"
+        };
         for c in conditions(design) {
-            if self.threshold(&c).is_none() {
+            if !self.covers(&c) {
                 bail!(
-                    "{}: field `thresholds` has no rule for condition scene {:?}, point set {:?}, \
+                    "{}: field `{field}` has no rule or row for condition scene {:?}, point set {:?}, \
                      time filter {:?} of design {}",
                     self.path.display(),
                     c.scene,
@@ -122,9 +231,7 @@ impl Observer {
 
     /// One subject's threshold in a condition.
     pub fn subject_threshold(&self, c: &Condition, subject: &str) -> Option<f64> {
-        let u = unit_f64(hash(self.file.seed, &[name_id(subject), 0x5b]));
-        self.threshold(c)
-            .map(|t| t * (self.file.subject_spread * (u - 0.5)).exp())
+        self.threshold(c).map(|t| t * self.subject_factor(subject))
     }
 
     /// Probability of a correct answer at `spp` for a subject whose threshold is `t`.
@@ -140,9 +247,9 @@ impl Observer {
     /// the trial's level, or exactly 1/2 when test and reference are the same video (the
     /// highest level under a `highest_level` reference: there is nothing to see).
     pub fn p_trial(&self, trial: &Trial, subject: &str) -> Result<f64> {
-        let Some(t) = self.subject_threshold(&trial.condition, subject) else {
+        let Some(p) = self.p_subject(&trial.condition, subject, trial.level as f64) else {
             bail!(
-                "{}: no threshold rule covers scene {:?}, point set {:?}, time filter {:?}",
+                "{}: no threshold rule or prediction covers scene {:?}, point set {:?}, time filter {:?}",
                 self.path.display(),
                 trial.condition.scene,
                 trial.condition.point_set,
@@ -152,7 +259,7 @@ impl Observer {
         if trial.test_stimulus == trial.reference_stimulus {
             return Ok(0.5);
         }
-        Ok(self.p_correct(t, trial.level as f64))
+        Ok(p)
     }
 
     /// The simulated subject's answer (pair 1 or 2), a pure function of the subject and the
@@ -187,8 +294,15 @@ fn validate(f: &ObserverFile) -> Result<()> {
             f.format
         );
     }
-    if !(f.slope.is_finite() && f.slope > 0.0) {
-        bail!("field `slope` is {}; expected a positive number", f.slope);
+    if f.predicted.is_some() {
+        if !f.thresholds.is_empty() {
+            bail!("fields `thresholds` and `predicted` are both given; an observer uses one");
+        }
+    } else if !(f.slope.is_finite() && f.slope > 0.0) {
+        bail!(
+            "field `slope` is {} (or missing); expected a positive number",
+            f.slope
+        );
     }
     if !(0.0..0.25).contains(&f.lapse) {
         bail!(
@@ -203,8 +317,8 @@ fn validate(f: &ObserverFile) -> Result<()> {
             f.subject_spread
         );
     }
-    if f.thresholds.is_empty() {
-        bail!("field `thresholds` is empty; expected at least one rule");
+    if f.thresholds.is_empty() && f.predicted.is_none() {
+        bail!("field `thresholds` is empty; expected at least one rule (or a `predicted` file)");
     }
     for (i, r) in f.thresholds.iter().enumerate() {
         if !(r.spp.is_finite() && r.spp > 0.0) {
@@ -284,6 +398,54 @@ mod tests {
             .count();
         let p = o.p_correct(40.0, 27.0);
         assert!((correct as f64 / n as f64 - p).abs() < 4.5 * 0.0036);
+    }
+
+    #[test]
+    fn predicted_observers_answer_from_the_curve_shifted_by_the_subject_factor() {
+        use crate::predicted::tests::row;
+        let dir = tempfile::tempdir().unwrap();
+        // d' = 12 spp^-1/2 for every condition of the small design.
+        let mut rows = Vec::new();
+        for scene in ["plane", "spheres"] {
+            for ps in ["hammersley", "poisson"] {
+                for spp in [1, 8, 27] {
+                    rows.push(row(scene, ps, spp, 12.0 / (spp as f64).sqrt()));
+                }
+            }
+        }
+        let csv = dir.path().join("predicted.csv");
+        std::fs::write(&csv, PredictedTable::from_rows(rows).to_csv().unwrap()).unwrap();
+        let o = Observer::load(&csv).unwrap();
+        assert_eq!(o.file.subject_spread, PREDICTED_SUBJECT_SPREAD);
+        o.check_covers(&small()).unwrap();
+        let c = cond("plane", "poisson");
+        let f = o.subject_factor("x");
+        let p = o.p_subject(&c, "x", 27.0).unwrap();
+        let expected = crate::predicted::two_pair_p_correct(12.0 / (27.0 / f).sqrt());
+        assert!((p - expected).abs() < 1e-12);
+        // The threshold is where the unshifted curve crosses 0.75, and the subject's is f times it.
+        let t = o.threshold(&c).unwrap();
+        let ts = o.subject_threshold(&c, "x").unwrap();
+        assert!(
+            (o.p_subject(&c, "x", ts).unwrap() - 0.75).abs() < 1e-9,
+            "{t} {ts}"
+        );
+        // A JSON observer naming the file: its lapse and spread apply.
+        let json = dir.path().join("o.json");
+        std::fs::write(
+            &json,
+            r#"{"format": "blurlab-observer/1", "name": "p", "predicted": "predicted.csv",
+                "lapse": 0.04, "subject_spread": 0.0}"#,
+        )
+        .unwrap();
+        let o = Observer::load(&json).unwrap();
+        let p = o.p_subject(&c, "x", 1.0).unwrap();
+        let raw = crate::predicted::two_pair_p_correct(12.0);
+        assert!((p - (0.92 * raw + 0.04)).abs() < 1e-12);
+        let both = r#"{"format": "blurlab-observer/1", "name": "p", "predicted": "a.csv",
+                       "thresholds": [{"spp": 4}]}"#;
+        let e = Observer::parse(Path::new("o.json"), both).unwrap_err();
+        assert!(e.to_string().contains("`predicted`"));
     }
 
     #[test]

@@ -1,0 +1,129 @@
+//! `blurlab plan --design D --observer O --subjects 4,8,12,16,24 --replications R`.
+
+use super::duration::{SessionDuration, manifest_video_seconds, session};
+use super::output::{Criteria, recommendation, write};
+use super::replicate::ReplicationSettings;
+use super::{Plan, PlanSettings, run as run_plan};
+use crate::bootstrap::BootstrapSettings;
+use crate::data::Grouping;
+use crate::report::Settings;
+use anyhow::{Result, bail};
+use clap::Args;
+use experiment::{Design, Observer};
+use std::path::PathBuf;
+
+/// How many subjects a study needs: simulate it many times and analyse each simulation.
+#[derive(Args, Clone, Debug)]
+pub struct PlanArgs {
+    /// The design file (blurlab-design/1).
+    #[arg(long)]
+    pub design: PathBuf,
+    /// The observer: an observer file (blurlab-observer/1) or a predicted.csv.
+    #[arg(long)]
+    pub observer: PathBuf,
+    /// Subject counts to try.
+    #[arg(long, value_delimiter = ',', default_value = "4,8,12,16,24")]
+    pub subjects: Vec<usize>,
+    /// Simulated studies per subject count.
+    #[arg(long, default_value_t = 500)]
+    pub replications: u64,
+    /// A pooled JND's interval is narrow when upper / lower < this factor (in spp).
+    #[arg(long, default_value_t = 2.0)]
+    pub factor: f64,
+    /// Bootstrap resamples per pooled fit (39: the percentile interval of 39 resamples covers
+    /// with probability exactly 0.95, docs/benchmarks/recovery.md).
+    #[arg(long, default_value_t = 39)]
+    pub resamples: usize,
+    /// Probability a recommendation requires (of a narrow interval, of significance).
+    #[arg(long, default_value_t = 0.8)]
+    pub probability: f64,
+    /// Differences in proportion correct below this do not drive the recommendation.
+    #[arg(long, default_value_t = 0.05)]
+    pub min_difference: f64,
+    /// Fit a JND per condition too (not only per scene, point set and time filter).
+    #[arg(long)]
+    pub conditions: bool,
+    /// Video length in seconds when the design's manifest is not rendered.
+    #[arg(long)]
+    pub video_seconds: Option<f64>,
+    /// Assumed time to answer a trial, seconds.
+    #[arg(long, default_value_t = 2.0)]
+    pub response_seconds: f64,
+    /// Assumed length of a break, seconds.
+    #[arg(long, default_value_t = 60.0)]
+    pub break_seconds: f64,
+    /// Output folder [default: results/<design name>/plan].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Hide the progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+/// What the command produced.
+pub struct Outcome {
+    pub plan: Plan,
+    pub duration: Option<SessionDuration>,
+    pub recommendation: String,
+    pub files: Vec<PathBuf>,
+}
+
+pub fn run(args: &PlanArgs) -> Result<Outcome> {
+    if args.factor.is_nan() || args.factor <= 1.0 {
+        bail!("--factor is {}; expected a ratio > 1", args.factor);
+    }
+    if args.resamples < 19 {
+        bail!(
+            "--resamples is {}; expected at least 19 (a 95% percentile interval needs them)",
+            args.resamples
+        );
+    }
+    let design = Design::load(&args.design)?;
+    let observer = Observer::load(&args.observer)?;
+    let defaults = Settings::default();
+    let mut groupings = vec![Grouping::Scene, Grouping::PointSet, Grouping::TimeFilter];
+    if args.conditions {
+        groupings.push(Grouping::Condition);
+    }
+    let settings = PlanSettings {
+        subjects: args.subjects.clone(),
+        replications: args.replications,
+        factor: args.factor,
+        replication: ReplicationSettings {
+            analysis: Settings {
+                bootstrap: BootstrapSettings {
+                    resamples: args.resamples,
+                    seed: 0,
+                    ..defaults.bootstrap
+                },
+                ..defaults
+            },
+            groupings,
+        },
+        keep_replications: false,
+        progress: !args.no_progress,
+    };
+    let plan = run_plan(&design, &observer, &settings)?;
+    let duration = args
+        .video_seconds
+        .or_else(|| manifest_video_seconds(&design))
+        .map(|v| session(&design, v, args.response_seconds, args.break_seconds));
+    let text = recommendation(
+        &plan,
+        Criteria {
+            probability: args.probability,
+            min_difference: args.min_difference,
+        },
+    );
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("results").join(design.name()).join("plan"));
+    let files = write(&plan, duration.as_ref(), &text, &out)?;
+    Ok(Outcome {
+        plan,
+        duration,
+        recommendation: text,
+        files,
+    })
+}

@@ -1,0 +1,89 @@
+//! `blurlab predict <stimulus set>`: the command line over [`super::stimuli::predict`],
+//! [`super::output::write`] and [`super::calibrate`].
+
+use super::calibrate::{Calibration, calibrate, cells, markdown};
+use super::decision::DEFAULT_K;
+use super::output::{Files, write};
+use super::stimuli::{PredictSettings, Prediction, predict, with_k};
+use crate::data::Dataset;
+use anyhow::{Result, bail};
+use clap::Args;
+use experiment::Design;
+use std::path::PathBuf;
+
+/// Predict how visible each stimulus's noise is, from its display frames.
+#[derive(Args, Clone, Debug)]
+pub struct PredictArgs {
+    /// The stimulus set: its manifest file or the folder holding it.
+    pub stimuli: PathBuf,
+    /// A design over the set: its trials' (test, reference) pairs and its `display` block are
+    /// used [default: every test stimulus against its scene's reference, the thesis's display].
+    #[arg(long)]
+    pub design: Option<PathBuf>,
+    /// Output folder [default: results/<job>/predict].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Sensitivity constant k (d' = k Q; 1 = the CSF's threshold is d' = 1).
+    #[arg(long, default_value_t = DEFAULT_K)]
+    pub sensitivity: f64,
+    /// Fit k to these sessions (folders or logs) by maximum likelihood, report the
+    /// leave-one-condition-out error, and write the prediction with the fitted k.
+    #[arg(long, num_args = 1..)]
+    pub calibrate: Vec<PathBuf>,
+    /// Hide the progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+/// What the command produced.
+pub struct Outcome {
+    pub prediction: Prediction,
+    pub files: Files,
+    pub calibration: Option<Calibration>,
+}
+
+pub fn run(args: &PredictArgs) -> Result<Outcome> {
+    if !(args.sensitivity.is_finite() && args.sensitivity > 0.0) {
+        bail!(
+            "--sensitivity is {}; expected a positive number",
+            args.sensitivity
+        );
+    }
+    let design = args.design.as_deref().map(Design::load).transpose()?;
+    let settings = PredictSettings {
+        display: design
+            .as_ref()
+            .and_then(|d| d.file.display.clone())
+            .unwrap_or_default(),
+        k: args.sensitivity,
+        progress: !args.no_progress,
+    };
+    let mut prediction = predict(&args.stimuli, design.as_ref(), &settings)?;
+    let out = args.out.clone().unwrap_or_else(|| {
+        PathBuf::from("results")
+            .join(&prediction.job)
+            .join("predict")
+    });
+    let mut calibration = None;
+    if !args.calibrate.is_empty() {
+        let ds = Dataset::read(&args.calibrate)?;
+        let c = calibrate(cells(&prediction, &ds)?);
+        std::fs::create_dir_all(&out)?;
+        renderer::atomic::write_atomic(
+            &out.join("calibration.md"),
+            markdown(&c, args.sensitivity).as_bytes(),
+        )?;
+        renderer::atomic::write_atomic(
+            &out.join("calibration.json"),
+            serde_json::to_string_pretty(&c)?.as_bytes(),
+        )?;
+        prediction = with_k(&prediction, c.k);
+        calibration = Some(c);
+    }
+    let files = write(&prediction, &out)?;
+    Ok(Outcome {
+        prediction,
+        files,
+        calibration,
+    })
+}

@@ -1,0 +1,33 @@
+//! Predicting before subjects: how visible each stimulus's difference from its reference is,
+//! computed from the display frames as a subject sees them, and the proportion correct of the
+//! two-pair task that follows. One idea per file:
+//!
+//! | file | idea |
+//! |---|---|
+//! | `display` | sRGB frames -> luminance (cd/m^2); pixels per degree |
+//! | `csf` | stelaCSF, the spatio-temporal contrast sensitivity function (cited there) |
+//! | `temporal` | sustained and transient channels as filters over looped frames |
+//! | `bands` | 2D FFT, octave bands, CSF weighting |
+//! | `masking` | threshold elevation by the reference's contrast |
+//! | `pooling` | Minkowski pooling over channels, space and time |
+//! | `video` | the model on one test/reference pair, frame by frame |
+//! | `decision` | the two-pair task's proportion correct from d' (with its simulation) |
+//! | `stimuli` | a whole stimulus set: rows of `predicted.csv`, JNDs per condition |
+//! | `output` | `predicted.csv`, `predicted_jnd.csv`, `predict.md`, a figure per scene |
+//! | `calibrate` | the sensitivity constant fitted to real sessions, leave-one-condition-out |
+//!
+//! `docs/predict.md` describes the model, its choices and what it cannot know.
+
+pub mod bands;
+pub mod calibrate;
+pub mod command;
+pub mod compare;
+pub mod csf;
+pub mod decision;
+pub mod display;
+pub mod masking;
+pub mod output;
+pub mod pooling;
+pub mod stimuli;
+pub mod temporal;
+pub mod video;
