@@ -3,6 +3,7 @@
 
 pub mod accel;
 pub mod atomic;
+pub mod bvh;
 pub mod camera;
 pub mod cli;
 pub mod convergence;
@@ -22,3 +23,4 @@ pub mod render;
 pub mod sampling;
 pub mod scene;
 pub mod shading;
+pub mod workload;

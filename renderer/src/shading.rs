@@ -116,8 +116,14 @@ impl<'a> Tracer<'a> {
             if self.world.occluded(&shadow) {
                 continue;
             }
-            let phong = phong(reflect(-s.towards, ns).dot(v), m.phong_exponent);
-            sum += s.irradiance * (m.diffuse * cos + m.specular * phong);
+            // powf is the dearest step of a diffuse hit: skip it where it adds 0 (same bits:
+            // the lobe is finite, so `0 * lobe` is +0 and `x + 0 = x`).
+            let specular = if m.specular == Vec3::ZERO {
+                Vec3::ZERO
+            } else {
+                m.specular * phong(reflect(-s.towards, ns).dot(v), m.phong_exponent)
+            };
+            sum += s.irradiance * (m.diffuse * cos + specular);
         }
         sum
     }
