@@ -28,15 +28,9 @@ struct Args {
     export: Option<PathBuf>,
 }
 
-/// CPU time of the calling thread, nanoseconds (first field of its schedstat).
-fn thread_cpu_ns() -> Result<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat")
-        .context("reading /proc/thread-self/schedstat (Linux only)")?;
-    let first = text.split_whitespace().next().unwrap_or_default();
-    first
-        .parse()
-        .with_context(|| format!("unexpected schedstat contents {text:?}"))
-}
+#[path = "shared/thread_cpu.rs"]
+mod thread_cpu;
+use thread_cpu::thread_cpu_ns;
 
 fn write_f32(path: PathBuf, values: impl Iterator<Item = f32>) -> Result<()> {
     let bytes: Vec<u8> = values.flat_map(f32::to_le_bytes).collect();
