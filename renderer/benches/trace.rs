@@ -1,8 +1,9 @@
 //! Primary + shadow rays per second through the tracing core, next to bare obvhs on the same
 //! rays (its own triangle test, one BVH in world space, no instancing, no motion).
 //!
-//! Scene: a 200k-triangle torus above a ground; 256x256 jittered pinhole rays, one shadow ray
-//! toward a directional light per hit. Run:
+//! Workload: [`renderer::workload`] (a 200k-triangle torus above a ground; 256x256 jittered
+//! pinhole rays, one shadow ray toward a directional light per hit), traced through the
+//! 4-wide BVH with SIMD box and triangle tests (`renderer::bvh`). Run:
 //! `CARGO_TARGET_DIR=/work/target-release cargo bench -p renderer --bench trace`
 //! (results: `docs/benchmarks/renderer-trace.md`).
 //!
@@ -13,128 +14,48 @@
 
 use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
-use glam::{Vec2, Vec3, Vec3A};
+use glam::{Vec3, Vec3A};
 use obvhs::BvhBuildParams;
 use obvhs::bvh2::{Bvh2, builder::build_bvh2_from_tris};
 use obvhs::cwbvh::{CwBvh, builder::build_cwbvh_from_tris};
 use obvhs::ray::RayHit;
 use obvhs::triangle::Triangle;
 use rayon::prelude::*;
-use renderer::accel::{Instance, World};
-use renderer::geometry::tessellate::torus;
-use renderer::geometry::{Plane, Ray, Shape, TriangleMesh};
-use renderer::hash::{hash, unit_f32};
-use renderer::motion::{Motion, MotionLayer};
+use renderer::accel::World;
+use renderer::geometry::TriangleMesh;
+use renderer::workload::{SIZE, TraceWorkload};
 use std::hint::black_box;
-use std::sync::Arc;
 use std::time::Duration;
 
-const SIZE: u32 = 256;
-const SHUTTER: (f32, f32) = (0.0, 0.12);
-
 struct Setup {
-    mesh: Arc<TriangleMesh>,
-    location: Vec3,
+    w: TraceWorkload,
     light: Vec3A,
-    eye: Vec3A,
     /// World-space triangles of the torus and the ground, for bare obvhs.
     triangles: Vec<Triangle>,
 }
 
 fn setup() -> Setup {
-    // 500 x 200 x 2 = 200k triangles.
-    let mesh = Arc::new(torus(3.0, 1.0, 500, 200));
-    let location = Vec3::new(0.0, 1.2, 0.0);
-    let offset = Vec3A::from(location);
-    let mut triangles: Vec<Triangle> = (0..mesh.triangle_count())
-        .map(|i| {
-            let [v0, v1, v2] = mesh.corners(i);
-            Triangle {
-                v0: v0 + offset,
-                v1: v1 + offset,
-                v2: v2 + offset,
-            }
-        })
+    let w = TraceWorkload::new();
+    let triangles = w
+        .world_triangles()
+        .into_iter()
+        .map(|[v0, v1, v2]| Triangle { v0, v1, v2 })
         .collect();
-    let g = [(-50.0, -50.0), (50.0, -50.0), (50.0, 50.0), (-50.0, 50.0)]
-        .map(|(x, z)| Vec3A::new(x, 0.0, z));
-    triangles.push(Triangle {
-        v0: g[0],
-        v1: g[2],
-        v2: g[1],
-    });
-    triangles.push(Triangle {
-        v0: g[0],
-        v1: g[3],
-        v2: g[2],
-    });
     Setup {
-        mesh,
-        location,
-        light: Vec3A::new(0.4, 1.0, 0.3).normalize(),
-        eye: Vec3A::new(0.0, 7.0, 9.0),
+        light: w.light,
+        w,
         triangles,
     }
 }
 
 fn world(s: &Setup, velocity: Vec3) -> World {
-    world_with(s, velocity, Vec3::ZERO)
-}
-
-fn world_with(s: &Setup, velocity: Vec3, angular_velocity: Vec3) -> World {
-    let torus = Instance {
-        shape: Shape::Mesh(s.mesh.clone()),
-        motion: Motion {
-            layers: vec![MotionLayer {
-                location: s.location,
-                velocity,
-                angular_velocity,
-                ..MotionLayer::default()
-            }],
-        },
-        material: 0,
-    };
-    let ground = Instance {
-        shape: Shape::Plane(Plane {
-            half_extent: Some(Vec2::splat(50.0)),
-        }),
-        motion: Motion::default(),
-        material: 1,
-    };
-    World::build(vec![torus, ground], SHUTTER)
-}
-
-/// The camera ray of pixel (x, y): jittered in the pixel and in the shutter.
-fn camera_ray(s: &Setup, x: u32, y: u32) -> Ray {
-    let h = |axis: u64| unit_f32(hash(17, &[x as u64, y as u64, axis]));
-    let u = (x as f32 + h(0)) / SIZE as f32 * 2.0 - 1.0;
-    let v = 1.0 - (y as f32 + h(1)) / SIZE as f32 * 2.0;
-    let forward = (Vec3A::new(0.0, 1.0, 0.0) - s.eye).normalize();
-    let right = forward.cross(Vec3A::Y).normalize();
-    let up = right.cross(forward);
-    let dir = forward + (right * u + up * v) * 0.6;
-    Ray::new(s.eye, dir, SHUTTER.0 + (SHUTTER.1 - SHUTTER.0) * h(2))
-}
-
-/// Rays traced for one row: (primary + shadow rays, lit hits).
-fn trace_row(s: &Setup, w: &World, y: u32) -> (u64, u64) {
-    let (mut rays, mut lit) = (0, 0);
-    for x in 0..SIZE {
-        let ray = camera_ray(s, x, y);
-        rays += 1;
-        if let Some(h) = w.intersect(&ray) {
-            rays += 1;
-            let shadow = Ray::new(h.spawn_point(s.light), s.light, ray.time);
-            lit += u64::from(!w.occluded(&shadow));
-        }
-    }
-    (rays, lit)
+    s.w.world(velocity, Vec3::ZERO)
 }
 
 fn trace_frame(s: &Setup, w: &World) -> (u64, u64) {
     (0..SIZE)
         .into_par_iter()
-        .map(|y| trace_row(s, w, y))
+        .map(|y| s.w.trace_row(w, y))
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
 
@@ -143,7 +64,7 @@ fn trace_frame(s: &Setup, w: &World) -> (u64, u64) {
 fn bare_row<B: BareBvh>(s: &Setup, bvh: &B, y: u32) -> (u64, u64) {
     let (mut rays, mut lit) = (0, 0);
     for x in 0..SIZE {
-        let r = camera_ray(s, x, y);
+        let r = s.w.camera_ray(x, y);
         let ray = obvhs::ray::Ray::new_inf(r.origin, r.dir);
         rays += 1;
         let mut hit = RayHit::none();
@@ -288,7 +209,7 @@ fn fixture() -> Fixture {
     let still = world(&s, Vec3::ZERO);
     let moving = world(&s, Vec3::new(4.0, 0.0, 1.0));
     // Half a radian per second about the torus's axis (0.06 rad per frame).
-    let spinning = world_with(&s, Vec3::ZERO, Vec3::new(0.0, 0.5, 0.0));
+    let spinning = s.w.world(Vec3::ZERO, Vec3::new(0.0, 0.5, 0.0));
     assert!(still.is_static() && !moving.is_static() && !spinning.is_static());
     let bvh2 = build_bvh2_from_tris(
         &s.triangles,
@@ -306,7 +227,7 @@ fn fixture() -> Fixture {
     eprintln!(
         "rays per frame: ours {rays} ({lit} lit), bare {bare_rays} ({bare_lit} lit), moving {moving_rays}; \
          torus {} triangles",
-        s.mesh.triangle_count()
+        s.w.mesh.triangle_count()
     );
     Fixture {
         s,
@@ -362,7 +283,7 @@ fn bench_wall(c: &mut Criterion) {
         )
     });
     g.bench_function("mesh_bvh_200k_triangles", |b| {
-        let m = &f.s.mesh;
+        let m = &f.s.w.mesh;
         b.iter(|| {
             black_box(TriangleMesh::new(
                 m.positions.clone(),

@@ -6,13 +6,13 @@
 //! both sides alike and mostly cancels in the ratio.
 //!
 //! ```text
-//! CARGO_TARGET_DIR=/work/target-release cargo run --release -p renderer --example motion_cost -- scenes/spheres.json
+//! CARGO_TARGET_DIR=/work/target-release cargo run --release -p renderer --example motion_cost -- scenes/thesis/spheres.json
 //! ```
 //!
 //! `--only moving` (or `frozen`) renders just that side, for profilers (`perf record`,
 //! `valgrind --tool=callgrind`). Results: `docs/benchmarks/renderer-scenes.md`.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Parser, ValueEnum};
 use renderer::render::render_frame;
 use renderer::scene::Scene;
@@ -45,15 +45,9 @@ enum Side {
     Frozen,
 }
 
-/// CPU time of the calling thread, nanoseconds (first field of its schedstat).
-fn thread_cpu_ns() -> Result<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat")
-        .context("reading /proc/thread-self/schedstat (Linux only)")?;
-    let first = text.split_whitespace().next().unwrap_or_default();
-    first
-        .parse()
-        .with_context(|| format!("unexpected schedstat contents {text:?}"))
-}
+#[path = "shared/thread_cpu.rs"]
+mod thread_cpu;
+use thread_cpu::thread_cpu_ns;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);

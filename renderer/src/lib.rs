@@ -3,6 +3,7 @@
 
 pub mod accel;
 pub mod atomic;
+pub mod bvh;
 pub mod camera;
 pub mod cli;
 pub mod contact_sheet;
@@ -27,3 +28,4 @@ pub mod sampling;
 pub mod scene;
 pub mod shading;
 pub mod text;
+pub mod workload;

@@ -116,9 +116,14 @@ impl<'a> Tracer<'a> {
             if self.world.occluded(&shadow) {
                 continue;
             }
-            let r = reflect(-s.towards, ns);
-            let phong = r.dot(v).max(0.0).powf(m.phong_exponent);
-            sum += s.irradiance * (m.diffuse * cos + m.specular * phong);
+            // powf is the dearest step of a diffuse hit: skip it where it adds 0 (same bits:
+            // the lobe is finite, so `0 * lobe` is +0 and `x + 0 = x`).
+            let specular = if m.specular == Vec3::ZERO {
+                Vec3::ZERO
+            } else {
+                m.specular * phong(reflect(-s.towards, ns).dot(v), m.phong_exponent)
+            };
+            sum += s.irradiance * (m.diffuse * cos + specular);
         }
         sum
     }
@@ -170,8 +175,63 @@ fn facing_normals(hit: &SurfaceHit, v: Vec3A) -> (Vec3A, Vec3A) {
     (ng, ns)
 }
 
+/// The Phong lobe `max(0, r·v)^p`. `r·v` of two unit vectors can round a hair above 1, and
+/// `(1 + 6e-8)^1e9` is infinite: clamped to [0, 1], the lobe stays in [0, 1] for any exponent
+/// (the scene loader also bounds `p`: `scene::build::MAX_PHONG_EXPONENT`).
+#[inline]
+fn phong(r_dot_v: f32, exponent: f32) -> f32 {
+    r_dot_v.clamp(0.0, 1.0).powf(exponent)
+}
+
 /// `d` mirrored about the unit normal `n`.
 #[inline]
 fn reflect(d: Vec3A, n: Vec3A) -> Vec3A {
     d - n * (2.0 * d.dot(n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_phong_lobe_stays_in_the_unit_interval_for_any_exponent() {
+        // The overflow seen in mirror renders: r·v one step above 1, exponent 1e9.
+        let above = 1.0f32.next_up();
+        assert_eq!(
+            above.powf(1e9),
+            f32::INFINITY,
+            "the unclamped lobe overflows"
+        );
+        for p in [0.0, 1.0, 20.0, 1e6, 1e9, f32::MAX] {
+            for c in [above, 1.0 + 1e-3, 1.0, 0.5, 0.0, -0.3] {
+                let l = phong(c, p);
+                assert!((0.0..=1.0).contains(&l), "phong({c}, {p}) = {l}");
+            }
+        }
+        assert_eq!(phong(above, 1e9), 1.0);
+        assert_eq!(phong(0.5, 2.0), 0.25);
+        assert_eq!(phong(-0.3, 3.0), 0.0);
+    }
+
+    /// A reflected light direction and the view can both be unit length to rounding and give
+    /// r·v > 1; over many directions some do, and every lobe stays finite.
+    #[test]
+    fn mirror_aligned_views_never_give_non_finite_light() {
+        let mut above = 0;
+        for i in 0..20_000u64 {
+            let h = |k: u64| crate::hash::unit_f32(crate::hash::hash(7, &[i, k])) * 2.0 - 1.0;
+            let n = Vec3A::new(h(0), 1.0, h(1)).normalize();
+            let l = Vec3A::new(h(2), h(3).abs() + 0.1, h(4)).normalize();
+            let v = reflect(-l, n);
+            let c = reflect(-l, n).dot(v);
+            above += usize::from(c > 1.0);
+            assert!(phong(c, 1e9).is_finite() && phong(c, MAX_P).is_finite());
+        }
+        assert!(
+            above > 0,
+            "no direction rounded above 1: the test would not fail"
+        );
+    }
+
+    const MAX_P: f32 = crate::scene::build::MAX_PHONG_EXPONENT;
 }

@@ -158,6 +158,14 @@ fn bad_scenes_are_refused_naming_the_file_and_the_field() {
             &["materials[0].fresnel", "min <= max"],
         ),
         (
+            with(base.clone(), "materials/0/phong_exponent", json!(1e9)),
+            &["materials[0].phong_exponent", "1000000000", "[0, 1e6]"],
+        ),
+        (
+            with(base.clone(), "materials/0/phong_exponent", json!(-2)),
+            &["materials[0].phong_exponent", "[0, 1e6]"],
+        ),
+        (
             with(base.clone(), "materials/0/diffuse", json!([0.5, -1, 0.5])),
             &["materials[0].diffuse", ">= 0"],
         ),

@@ -121,10 +121,7 @@ impl SpinChain {
                 forward = forward * r * b.linear;
             }
         }
-        Pose {
-            translation,
-            object_from_world: inverse,
-        }
+        Pose::new(translation, inverse)
     }
 }
 

@@ -18,19 +18,34 @@ use glam::{Affine3A, Mat3A, Vec3A};
 pub struct Pose {
     pub translation: Vec3A,
     pub object_from_world: Mat3A,
+    /// `object_from_world` is exactly the identity (a placed but unturned, unscaled object,
+    /// the common case): rays and normals skip the matrix (the products with 0 and 1 it saves
+    /// are exact, so results differ at most in the sign of a zero).
+    pub unturned: bool,
 }
 
 impl Pose {
-    pub fn from_world_from_object(m: Affine3A) -> Self {
+    pub fn new(translation: Vec3A, object_from_world: Mat3A) -> Self {
         Self {
-            translation: m.translation,
-            object_from_world: m.matrix3.inverse(),
+            translation,
+            object_from_world,
+            unturned: object_from_world == Mat3A::IDENTITY,
         }
+    }
+
+    pub fn from_world_from_object(m: Affine3A) -> Self {
+        Self::new(m.translation, m.matrix3.inverse())
     }
 
     /// The ray in object space (same time and t range).
     #[inline]
     pub fn ray_to_object(&self, ray: &Ray) -> Ray {
+        if self.unturned {
+            return Ray {
+                origin: ray.origin - self.translation,
+                ..*ray
+            };
+        }
         Ray {
             origin: self.object_from_world * (ray.origin - self.translation),
             dir: self.object_from_world * ray.dir,
@@ -41,6 +56,9 @@ impl Pose {
     /// An object-space normal in world space (inverse transpose), not normalised.
     #[inline]
     pub fn normal_to_world(&self, n: Vec3A) -> Vec3A {
+        if self.unturned {
+            return n;
+        }
         self.object_from_world.transpose() * n
     }
 }
@@ -84,7 +102,7 @@ impl PoseOverTime {
             PoseOverTime::Fixed(p) => *p,
             PoseOverTime::Translating { at_zero, velocity } => Pose {
                 translation: at_zero.translation + *velocity * t,
-                object_from_world: at_zero.object_from_world,
+                ..*at_zero
             },
             PoseOverTime::Spinning(chain) => chain.at(t),
         }

@@ -1,9 +1,10 @@
 //! The two-level structure rays are traced through in one frame.
 //!
 //! Bottom level: each mesh's own BVH, in object space, built once ([`TriangleMesh::new`]).
-//! Top level: an obvhs BVH over the instances' world bounds swept over this frame's shutter
-//! ([`swept_bounds`]), padded for rounding, rebuilt per frame (`fastest_build`: one instance per
-//! leaf, so an instance's box is never merged with its neighbours'). The top level's leaf test
+//! Top level: a 4-wide BVH ([`Bvh4`], collapsed from obvhs's binary one) over the instances'
+//! world bounds swept over this frame's shutter ([`swept_bounds`]), padded for rounding,
+//! rebuilt per frame (`fastest_build`: one instance per leaf, so an instance's box is never
+//! merged with its neighbours'). The top level's leaf test
 //! moves the ray into the instance's object space at the ray's time ([`PoseOverTime`]) and asks
 //! the shape. Unbounded planes cannot be boxed: every ray tests them after the top level.
 //!
@@ -14,11 +15,11 @@
 use super::pose::{Pose, PoseOverTime};
 use super::swept::swept_bounds;
 use super::{Instance, SurfaceHit};
+use crate::bvh::{BoxRay, Bvh4};
 use crate::geometry::bounds::SLACK_PER_DIAGONAL;
 use crate::geometry::{Bounds, Ray, ShapeHit};
 use obvhs::BvhBuildParams;
-use obvhs::bvh2::{Bvh2, builder::build_bvh2};
-use obvhs::ray::RayHit;
+use obvhs::bvh2::builder::build_bvh2;
 use std::time::Duration;
 
 /// Every instance, ready to be traced for the shutter interval `[t0, t1]` of one frame.
@@ -26,10 +27,9 @@ use std::time::Duration;
 pub struct World {
     instances: Vec<Instance>,
     poses: Vec<PoseOverTime>,
-    /// Top-level BVH over the bounded instances.
-    top: Bvh2,
-    /// Instance index of each top-level primitive, in the BVH's primitive order.
-    top_instances: Vec<u32>,
+    /// Top-level BVH over the bounded instances; its primitive `p` is instance `bounded[p]`.
+    top: Bvh4,
+    bounded: Vec<u32>,
     /// Instances without finite bounds (infinite planes), tested by every ray.
     unbounded: Vec<u32>,
     shutter: (f32, f32),
@@ -39,7 +39,7 @@ impl std::fmt::Debug for World {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("World")
             .field("instances", &self.instances)
-            .field("bounded", &self.top_instances.len())
+            .field("bounded", &self.bounded.len())
             .field("unbounded", &self.unbounded.len())
             .field("shutter", &self.shutter)
             .finish()
@@ -75,24 +75,19 @@ impl World {
             .map(|&i| pad_top_level(swept[i as usize], scene.diagonal()).to_aabb())
             .collect();
         let top = if boxes.is_empty() {
-            Bvh2::default()
+            Bvh4::default()
         } else {
-            build_bvh2(
+            Bvh4::from_bvh2(&build_bvh2(
                 &boxes,
                 BvhBuildParams::fastest_build(),
                 &mut Duration::default(),
-            )
+            ))
         };
-        let top_instances = top
-            .primitive_indices
-            .iter()
-            .map(|&p| bounded[p as usize])
-            .collect();
         Self {
             instances,
             poses,
             top,
-            top_instances,
+            bounded,
             unbounded,
             shutter,
         }
@@ -127,14 +122,14 @@ impl World {
             }
         };
         if self.in_shutter(ray) {
-            let mut hit = RayHit::none();
-            if self
-                .top
-                .ray_traverse(ray.traversal_ray(), &mut hit, |r, id| {
-                    visit(self.top_instances[id], r.tmax)
-                })
-            {
-                t_max = hit.t;
+            if let Some(boxes) = BoxRay::new(ray) {
+                t_max = self.top.closest(&boxes, t_max, |leaf, t_max| {
+                    let mut t = t_max;
+                    for &p in self.top.leaf(leaf) {
+                        t = t.min(visit(self.bounded[p as usize], t));
+                    }
+                    t
+                });
             }
             for &i in &self.unbounded {
                 t_max = t_max.min(visit(i, t_max));
@@ -170,13 +165,14 @@ impl World {
         if !self.in_shutter(ray) {
             return (0..self.instances.len() as u32).any(blocks);
         }
-        let miss = self.top.ray_traverse_miss(ray.traversal_ray(), |_, id| {
-            if blocks(self.top_instances[id]) {
-                f32::NEG_INFINITY
-            } else {
-                f32::INFINITY
-            }
+        let top = BoxRay::new(ray).is_some_and(|boxes| {
+            self.top.any(&boxes, ray.t_max, |leaf| {
+                self.top
+                    .leaf(leaf)
+                    .iter()
+                    .any(|&p| blocks(self.bounded[p as usize]))
+            })
         });
-        !miss || self.unbounded.iter().any(|&i| blocks(i))
+        top || self.unbounded.iter().any(|&i| blocks(i))
     }
 }

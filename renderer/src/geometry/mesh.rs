@@ -1,17 +1,25 @@
-//! Triangle meshes in object space, with an obvhs BVH built once per mesh.
+//! Triangle meshes in object space, with a 4-wide BVH built once per mesh.
 //!
 //! Motion moves rays, not triangles (see [`crate::accel`]), so the BVH never changes after
-//! [`TriangleMesh::new`]. Primitive boxes are padded ([`Bounds::padded`]) because obvhs's box
-//! test is not conservative, and triangles are stored in the BVH's primitive order so the
-//! traversal's primitive id indexes them directly.
+//! [`TriangleMesh::new`]. obvhs builds a binary BVH over padded triangle boxes
+//! ([`Bounds::padded`]: the slab test is not conservative without it), at most four triangles
+//! per leaf; [`Bvh4`] collapses it, and each leaf's triangles are packed into one
+//! [`Triangle4`] tested in four SIMD lanes. Triangles are stored in leaf order, so leaf `i`'s
+//! lanes are triangles `first_i ..`.
 
 use super::bounds::SLACK_PER_DIAGONAL;
 use super::triangle::WatertightRay;
+use super::triangle4::{Triangle4, WatertightRay4, nearest_lane};
 use super::{Bounds, ObjectHit, Ray, ShapeHit};
+use crate::bvh::{BoxRay, Bvh4};
 use glam::Vec3A;
-use obvhs::bvh2::{Bvh2, builder::build_bvh2};
-use obvhs::{BvhBuildParams, ray::RayHit};
+use obvhs::BvhBuildParams;
+use obvhs::bvh2::builder::build_bvh2;
 use std::time::Duration;
+use wide::f32x4;
+
+/// Triangles per leaf: one [`Triangle4`].
+const LEAF_SIZE: u32 = 4;
 
 #[derive(Clone)]
 pub struct TriangleMesh {
@@ -19,13 +27,15 @@ pub struct TriangleMesh {
     pub positions: Vec<Vec3A>,
     /// Per-vertex normals, same length as `positions`, when the model has them.
     pub normals: Option<Vec<Vec3A>>,
-    /// The triangles, in the BVH's order (not the order given to [`TriangleMesh::new`]), without
-    /// the ones that were dropped as invalid.
+    /// The triangles, in the BVH's leaf order (not the order given to [`TriangleMesh::new`]),
+    /// without the ones that were dropped as invalid.
     pub indices: Vec<[u32; 3]>,
     bounds: Bounds,
-    /// Corner positions of `indices[i]`, so the inner loop reads one cache line per triangle.
+    /// Corner positions of `indices[i]`.
     corners: Vec<[Vec3A; 3]>,
-    bvh: Bvh2,
+    /// Leaf `i`'s triangles, one per lane.
+    leaves: Vec<Triangle4>,
+    bvh: Bvh4,
     dropped: usize,
 }
 
@@ -36,7 +46,7 @@ impl std::fmt::Debug for TriangleMesh {
             .field("triangles", &self.indices.len())
             .field("normals", &self.normals.is_some())
             .field("bounds", &self.bounds)
-            .field("bvh_nodes", &self.bvh.nodes.len())
+            .field("bvh_nodes", &self.bvh.node_count())
             .finish()
     }
 }
@@ -70,26 +80,31 @@ impl TriangleMesh {
             })
             .collect();
         let bvh = if boxes.is_empty() {
-            Bvh2::default()
+            Bvh4::default()
         } else {
-            build_bvh2(
-                &boxes,
-                BvhBuildParams::medium_build(),
-                &mut Duration::default(),
-            )
+            let params = BvhBuildParams {
+                max_prims_per_leaf: LEAF_SIZE,
+                ..BvhBuildParams::medium_build()
+            };
+            Bvh4::from_bvh2(&build_bvh2(&boxes, params, &mut Duration::default()))
         };
-        // Reorder once so the traversal's primitive id is our triangle index.
-        let (indices, corners) = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| valid[i as usize])
-            .unzip();
+        // Reorder once so leaf i's lanes are triangles first_i .. first_i + count_i.
+        let (indices, corners): (Vec<_>, Vec<_>) =
+            bvh.order().iter().map(|&i| valid[i as usize]).unzip();
+        let leaves = (0..bvh.leaf_count() as u32)
+            .map(|i| {
+                let (first, count) = bvh.leaf_range(i);
+                debug_assert!(count <= LEAF_SIZE);
+                Triangle4::new(&corners[first as usize..(first + count) as usize])
+            })
+            .collect();
         Self {
             positions,
             normals,
             indices,
             bounds,
             corners,
+            leaves,
             bvh,
             dropped,
         }
@@ -109,8 +124,8 @@ impl TriangleMesh {
         self.dropped
     }
 
-    /// The BVH (object space), for benchmarks that traverse it bare.
-    pub fn bvh(&self) -> &Bvh2 {
+    /// The BVH (object space).
+    pub fn bvh(&self) -> &Bvh4 {
         &self.bvh
     }
 
@@ -126,31 +141,38 @@ impl TriangleMesh {
 
     /// Whether any triangle is hit with `ray.t_min < t < ray.t_max` (stops at the first).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let w = WatertightRay::new(ray);
-        let t_min = ray.t_min;
-        !self.bvh.ray_traverse_miss(ray.traversal_ray(), |r, id| {
-            let [a, b, c] = self.corners[id];
-            w.intersect_t(a, b, c, t_min, r.tmax)
-                .unwrap_or(f32::INFINITY)
+        let Some((boxes, tris)) = prepare(ray) else {
+            return false;
+        };
+        let (t_min, t_max) = (ray.t_min, ray.t_max);
+        self.bvh.any(&boxes, t_max, |leaf| {
+            let t = tris.intersect(&self.leaves[leaf as usize], t_min, t_max);
+            t.simd_lt(f32x4::splat(f32::INFINITY)).any()
         })
     }
 
     /// The closest hit's parameter and triangle, without normals.
     pub fn closest(&self, ray: &Ray) -> Option<ShapeHit> {
-        let w = WatertightRay::new(ray);
+        let (boxes, tris) = prepare(ray)?;
         let t_min = ray.t_min;
-        let mut hit = RayHit::none();
-        let found = self
-            .bvh
-            .ray_traverse(ray.traversal_ray(), &mut hit, |r, id| {
-                let [a, b, c] = self.corners[id];
-                w.intersect_t(a, b, c, t_min, r.tmax)
-                    .unwrap_or(f32::INFINITY)
-            });
-        found.then_some(ShapeHit {
-            t: hit.t,
-            primitive: hit.primitive_id,
-        })
+        let mut found = None;
+        self.bvh.closest(&boxes, ray.t_max, |leaf, t_max| {
+            let t = tris.intersect(&self.leaves[leaf as usize], t_min, t_max);
+            match nearest_lane(t) {
+                Some((t, lane)) => {
+                    // Padding lanes copy the leaf's last triangle at a later lane, so the
+                    // nearest lane is always a real one.
+                    let (first, count) = self.bvh.leaf_range(leaf);
+                    found = Some(ShapeHit {
+                        t,
+                        primitive: first + (lane as u32).min(count - 1),
+                    });
+                    t
+                }
+                None => f32::INFINITY,
+            }
+        });
+        found
     }
 
     /// Normals at a hit found by [`TriangleMesh::closest`] for the same ray.
@@ -182,6 +204,16 @@ impl TriangleMesh {
             shading_normal,
         }
     }
+}
+
+/// The ray prepared for box and four-lane triangle tests; `None` when it can hit nothing.
+#[inline(always)]
+fn prepare(ray: &Ray) -> Option<(BoxRay, WatertightRay4)> {
+    let w = WatertightRay::new(ray);
+    if !w.is_valid() {
+        return None;
+    }
+    Some((BoxRay::new(ray)?, WatertightRay4::new(&w)))
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ pub mod ray;
 pub mod sphere;
 pub mod tessellate;
 pub mod triangle;
+pub mod triangle4;
 
 pub use bounds::Bounds;
 pub use mesh::TriangleMesh;

@@ -19,13 +19,12 @@ use glam::Vec3A;
 #[derive(Clone, Copy, Debug)]
 pub struct WatertightRay {
     origin: Vec3A,
-    /// Rows of the shear map as columns, so `col_x * d.x + col_y * d.y + col_z * d.z` gives
-    /// `(d[kx] - Sx d[kz], d[ky] - Sy d[kz], Sz d[kz])` for `d = vertex - origin`. The 0 and 1
-    /// entries make the lane sums bit-identical to the scalar formulas of the paper.
-    col_x: Vec3A,
-    col_y: Vec3A,
-    col_z: Vec3A,
-    /// False when the direction is zero or not finite: such a ray hits nothing.
+    /// The axis permutation (kx, ky, kz): kz the dominant axis of `dir`.
+    pub(crate) axes: [usize; 3],
+    /// The shear (Sx, Sy, Sz) = (d_kx / d_kz, d_ky / d_kz, 1 / d_kz).
+    pub(crate) shear: [f32; 3],
+    /// False when the direction is zero or not finite, or the origin is not finite: such a ray
+    /// hits nothing.
     valid: bool,
 }
 
@@ -38,51 +37,57 @@ pub struct TriangleHit {
 }
 
 impl WatertightRay {
+    #[inline]
     pub fn new(ray: &Ray) -> Self {
-        let d = ray.dir;
-        let valid = d.is_finite() && d != Vec3A::ZERO && ray.origin.is_finite();
-        let a = d.abs();
+        let valid = ray.dir.is_finite() && ray.dir != Vec3A::ZERO && ray.origin.is_finite();
+        // Arrays, not glam's `Vec3A[i]`, whose runtime index is a three-way branch.
+        let d = ray.dir.to_array();
+        let a = d.map(f32::abs);
         // kz: the dominant axis, so the divisions below are by the largest component.
-        let kz = if a.x >= a.y && a.x >= a.z {
+        let kz = if a[0] >= a[1] && a[0] >= a[2] {
             0
-        } else if a.y >= a.z {
+        } else if a[1] >= a[2] {
             1
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
+        let (mut kx, mut ky) = ([1, 2, 0][kz], [2, 0, 1][kz]);
         // Keep the winding (and so the sign of the determinant) independent of the direction.
         if d[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        let (sx, sy, sz) = if valid {
-            (d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz])
+        let shear = if valid {
+            [d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]]
         } else {
-            (0.0, 0.0, 0.0)
+            [0.0; 3]
         };
-        let mut rows = [[0.0f32; 3]; 3];
-        rows[0][kx] = 1.0;
-        rows[0][kz] = -sx;
-        rows[1][ky] = 1.0;
-        rows[1][kz] = -sy;
-        rows[2][kz] = sz;
-        let col = |j: usize| Vec3A::new(rows[0][j], rows[1][j], rows[2][j]);
         Self {
             origin: ray.origin,
-            col_x: col(0),
-            col_y: col(1),
-            col_z: col(2),
+            axes: [kx, ky, kz],
+            shear,
             valid,
         }
     }
 
+    pub(crate) fn origin(&self) -> Vec3A {
+        self.origin
+    }
+
+    /// Whether the ray can hit anything (finite origin, finite non-zero direction).
+    #[inline]
+    pub fn is_valid(&self) -> bool {
+        self.valid
+    }
+
     /// The vertex `p` in the ray's sheared frame: (x, y) in the plane across the ray, and z
-    /// scaled so that the hit parameter is an interpolation of the corners' z.
+    /// scaled so that the hit parameter is an interpolation of the corners' z. The same
+    /// operations, in the same order, as each lane of [`super::triangle4`].
     #[inline(always)]
     fn shear(&self, p: Vec3A) -> Vec3A {
-        let d = p - self.origin;
-        self.col_x * d.x + self.col_y * d.y + self.col_z * d.z
+        let d = (p - self.origin).to_array();
+        let [kx, ky, kz] = self.axes;
+        let [sx, sy, sz] = self.shear;
+        Vec3A::new(d[kx] - sx * d[kz], d[ky] - sy * d[kz], sz * d[kz])
     }
 
     /// The hit with triangle `(a, b, c)` for `t_min < t < t_max`, or `None`. Both faces count.
@@ -153,7 +158,7 @@ impl WatertightRay {
 /// traversal's closure stays small enough to be inlined.
 #[cold]
 #[inline(never)]
-fn exact_edges(a: Vec3A, b: Vec3A, c: Vec3A) -> [f32; 3] {
+pub(crate) fn exact_edges(a: Vec3A, b: Vec3A, c: Vec3A) -> [f32; 3] {
     let e = |p: Vec3A, q: Vec3A| (p.x as f64 * q.y as f64 - p.y as f64 * q.x as f64) as f32;
     [e(c, b), e(a, c), e(b, a)]
 }

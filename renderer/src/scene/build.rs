@@ -75,6 +75,17 @@ impl Check<'_> {
         }
     }
 
+    fn within(&self, field: String, v: f32, min: f32, max: f32) -> Result<f32> {
+        if v.is_finite() && (min..=max).contains(&v) {
+            Ok(v)
+        } else {
+            Err(self.err(
+                field,
+                format!("is {v}; expected a number in [{min}, {max:e}]"),
+            ))
+        }
+    }
+
     fn positive(&self, field: String, v: f32) -> Result<f32> {
         if v.is_finite() && v > 0.0 {
             Ok(v)
@@ -305,6 +316,12 @@ pub fn build_mapped(f: SceneFile, path: &Path, map: Option<&SourceMap>) -> Resul
     })
 }
 
+/// The largest Phong exponent a scene may ask for. `(r·v)^p` falls to 1/e at
+/// `r·v = 1 - 1/p`; above ~1.7e7 that is less than one f32 step below 1 (6e-8), so the
+/// highlight is a single representable value and the exponent has no meaning left. 1e6 keeps
+/// the lobe at least ~17 steps wide; sharper highlights are mirrors (`fresnel`).
+pub const MAX_PHONG_EXPONENT: f32 = 1e6;
+
 fn materials(c: &Check, list: &[MaterialDesc]) -> Result<Vec<Material>> {
     let mut seen = HashMap::new();
     list.iter()
@@ -341,10 +358,11 @@ fn materials(c: &Check, list: &[MaterialDesc]) -> Result<Vec<Material>> {
                 ambient: c.colour(format!("{at}.ambient"), m.ambient)?,
                 diffuse: c.colour(format!("{at}.diffuse"), m.diffuse)?,
                 specular: c.colour(format!("{at}.specular"), m.specular)?,
-                phong_exponent: c.at_least(
+                phong_exponent: c.within(
                     format!("{at}.phong_exponent"),
                     m.phong_exponent,
                     0.0,
+                    MAX_PHONG_EXPONENT,
                 )?,
                 fresnel,
             })
