@@ -17,6 +17,7 @@ pub mod geometry;
 pub mod hash;
 pub mod job;
 pub mod light;
+pub mod limits;
 pub mod manifest;
 pub mod material;
 pub mod metrics;

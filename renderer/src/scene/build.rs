@@ -22,8 +22,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// Largest image side accepted (a typo guard: 16384² pixels is 3 GB of film).
-const MAX_SIZE: u32 = 16384;
+use crate::limits::MAX_IMAGE_SIDE as MAX_SIZE;
 
 /// Parse scene text; a syntax or type error names the field path where it happened.
 pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
