@@ -1,8 +1,10 @@
 //! Calibrating the sensitivity constant k (d' = k Q) to real sessions, by maximum likelihood
 //! over all their main trials:
 //!
-//!     ln L(k) = sum over cells (condition x level) of  c ln p + (n - c) ln(1 - p),
-//!     p = Phi(k Q / 2)^2 + Phi(-k Q / 2)^2,
+//! ```text
+//! ln L(k) = sum over cells (condition x level) of  c ln p + (n - c) ln(1 - p),
+//! p = Phi(k Q / 2)^2 + Phi(-k Q / 2)^2,
+//! ```
 //!
 //! with c correct of n trials pooled over subjects and Q the cell's predicted visible
 //! difference. k is the only free parameter: the model's shape (CSF, masking, pooling,

@@ -13,11 +13,13 @@
 //! Foveal, achromatic version (eccentricity 0): two mechanisms, sustained and transient, each a
 //! spatial CSF times a temporal response, added linearly:
 //!
-//!     S(rho, omega, L, A) = R_S(omega) S_S(rho, L, A) + R_T(omega) S_T(rho, L, A)
-//!     S_X = S_max,X(L) S_LP,X(rho, L) sqrt(A_c / (1 + A_c / A)) rho
-//!     S_LP = 10^(-(log10 rho - log10 f_max(L))^2 / 2^b), held at 1 - a below f_max
-//!     A_c = A_0 / (1 + (rho / f_0)^2)          (Rovamo et al. 1993; A_0 = 270, f_0 = 0.65)
-//!     R_S = exp(-omega^1.3314 / sigma_S),  R_T = exp(-(omega^0.1898 - 5^0.1898)^2 / sigma_T)
+//! ```text
+//! S(rho, omega, L, A) = R_S(omega) S_S(rho, L, A) + R_T(omega) S_T(rho, L, A)
+//! S_X = S_max,X(L) S_LP,X(rho, L) sqrt(A_c / (1 + A_c / A)) rho
+//! S_LP = 10^(-(log10 rho - log10 f_max(L))^2 / 2^b), held at 1 - a below f_max
+//! A_c = A_0 / (1 + (rho / f_0)^2)          (Rovamo et al. 1993; A_0 = 270, f_0 = 0.65)
+//! R_S = exp(-omega^1.3314 / sigma_S),  R_T = exp(-(omega^0.1898 - 5^0.1898)^2 / sigma_T)
+//! ```
 //!
 //! rho in cycles per degree, omega in Hz, L in cd/m^2, A in deg^2. Sensitivity is the inverse
 //! of the Michelson contrast at detection threshold.

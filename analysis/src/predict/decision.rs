@@ -7,11 +7,15 @@
 //! ed., ch. 9): pick the pair whose values differ more. With U = x3 - x4 ~ N(d', 2) for the
 //! reference/test pair and V = x1 - x2 ~ N(0, 2) for the identical pair,
 //!
-//!     |U| > |V|  <=>  (U - V)(U + V) > 0,
+//! ```text
+//! |U| > |V|  <=>  (U - V)(U + V) > 0,
+//! ```
 //!
 //! and U - V, U + V are independent N(d', 4) (equal variances make them uncorrelated), so
 //!
-//!     p_c = P(both > 0) + P(both < 0) = Phi(d'/2)^2 + Phi(-d'/2)^2.
+//! ```text
+//! p_c = P(both > 0) + P(both < 0) = Phi(d'/2)^2 + Phi(-d'/2)^2.
+//! ```
 //!
 //! d' = k Q: the pooled visible difference Q ([`super::pooling`]) times the sensitivity
 //! constant k. Default k = 1: Q = 1 is a grating at the CSF's detection threshold, and CSF

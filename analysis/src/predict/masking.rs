@@ -4,7 +4,9 @@
 //! JOSA 70(12)): no masking while the masker is below its own detection threshold, a power law
 //! above it,
 //!
-//!     T_e = max(1, |m|^epsilon),   epsilon = 0.7,
+//! ```text
+//! T_e = max(1, |m|^epsilon),   epsilon = 0.7,
+//! ```
 //!
 //! with m the reference's CSF-weighted band contrast at the same place, time, band and channel
 //! (so |m| = 1 is the masker at its threshold) and the exponent of Watson's DCTune (1993,

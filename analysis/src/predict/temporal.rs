@@ -5,7 +5,9 @@
 //! temporal frequencies are omega_j = fps min(j, F - j) / F. A channel with the real, even
 //! frequency response R(omega) is the circular convolution with
 //!
-//!     h[n] = (1/F) sum_j R(omega_j) cos(2 pi j n / F)
+//! ```text
+//! h[n] = (1/F) sum_j R(omega_j) cos(2 pi j n / F)
+//! ```
 //!
 //! (zero phase, so the sustained and transient outputs of one grating stay in phase and add as
 //! the CSF adds them). Long videos keep the taps within +-0.25 s ([`MAX_HALF_SECONDS`]): the
