@@ -11,7 +11,9 @@
 //! whose two videos differ more on one internal decision axis with unit-variance Gaussian noise
 //! per presentation. With d' the separation of test and reference on that axis,
 //!
-//!     p_c = Phi(d'/2)^2 + Phi(-d'/2)^2
+//! ```text
+//! p_c = Phi(d'/2)^2 + Phi(-d'/2)^2
+//! ```
 //!
 //! (derivation and a Monte Carlo check of the task in `analysis::predict::decision`).
 
