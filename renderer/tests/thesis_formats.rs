@@ -781,3 +781,47 @@ proptest! {
         prop_assert_eq!(convert::json(&again).unwrap(), json);
     }
 }
+
+/// `scenes/thesis/` holds each thesis scene in both formats and `scenes/jobs/` the thesis job in
+/// both: the text twin must read to exactly the JSON model (the thesis job's text twin names
+/// the `.scene` twins), so there is one definition per scene whichever file a user picks.
+#[test]
+fn the_thesis_files_in_both_formats_are_one_definition() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    for name in ["plane", "spheres"] {
+        let dir = scenes.join("thesis");
+        let text = convert::read(&dir.join(format!("{name}.scene"))).unwrap();
+        let json = convert::read(&dir.join(format!("{name}.json"))).unwrap();
+        assert_eq!(text, json, "{name}.scene and {name}.json differ");
+    }
+    let (Document::Job(text), Document::Job(mut json)) = (
+        convert::read(&scenes.join("jobs/thesis.job")).unwrap(),
+        convert::read(&scenes.join("jobs/thesis.json")).unwrap(),
+    ) else {
+        panic!("not jobs");
+    };
+    for s in &mut json.scenes {
+        *s = s.replace(".json", ".scene");
+    }
+    assert_eq!(text, json);
+    // plane.job is Figure 12 as printed (its comments aside), and plane.scene is Figure 13 line
+    // for line plus the additions its header names.
+    let job = std::fs::read_to_string(scenes.join("thesis/plane.job")).unwrap();
+    let lines: Vec<&str> = job.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(lines.join("\n") + "\n", read("figure12.job"));
+    let scene = std::fs::read_to_string(scenes.join("thesis/plane.scene")).unwrap();
+    let printed = read("figure13.scene");
+    let figure: Vec<&str> = printed.lines().filter(|l| !l.is_empty()).collect();
+    let ours: Vec<&str> = scene
+        .lines()
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .filter(|l| !l.starts_with("objectname ") && !l.starts_with("description "))
+        .collect();
+    let light = ours.iter().position(|l| *l == "light").unwrap();
+    let without_light: Vec<&str> = ours[..light]
+        .iter()
+        .chain(&ours[light + 6..])
+        .copied()
+        .collect();
+    assert_eq!(without_light, figure);
+}
