@@ -11,3 +11,58 @@ pub const MAX_IMAGE_SIDE: u32 = 16384;
 
 /// Most samples per pixel of one render (the point sets' largest set).
 pub const MAX_SPP: u32 = crate::sampling::pointset::MAX_POINTS as u32;
+
+/// Largest magnitude of any number in a scene (coordinates, sizes, velocities, intensities,
+/// times), and of any velocity times the largest |time| of the animation. Why 1e7: the tracer
+/// computes in 32-bit floats, whose spacing at 1e7 is one unit, and squares such numbers (a
+/// sphere's radius², a ray's length²) where 1e20 overflows to infinity and the object vanishes.
+/// A scene in feet or metres with detail near one unit stays far inside it.
+pub const MAX_MAGNITUDE: f64 = 1e7;
+
+/// `v` as a side of an image: 1 to [`MAX_IMAGE_SIDE`] pixels.
+pub fn check_side(v: u32) -> Result<u32, String> {
+    if (1..=MAX_IMAGE_SIDE).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("is {v}; expected 1 to {MAX_IMAGE_SIDE} pixels"))
+    }
+}
+
+/// A whole number from `lo` to `hi` on the command line; negative numbers and others get a
+/// message saying what was expected (clap's own would suggest `-- -1`).
+fn whole(s: &str, lo: u32, hi: u32, unit: &str) -> Result<u32, String> {
+    match s.trim().parse::<i64>() {
+        Ok(v) if (lo as i64..=hi as i64).contains(&v) => Ok(v as u32),
+        _ => Err(format!(
+            "`{s}`: expected a whole number of {unit} from {lo} to {hi}"
+        )),
+    }
+}
+
+/// clap value parser of an image side (`--width`, `--height`).
+pub fn parse_side(s: &str) -> Result<u32, String> {
+    whole(s, 1, MAX_IMAGE_SIDE, "pixels")
+}
+
+/// clap value parser of samples per pixel (`--spp`, levels).
+pub fn parse_spp(s: &str) -> Result<u32, String> {
+    whole(s, 1, MAX_SPP, "samples per pixel")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn command_line_numbers_say_what_was_expected() {
+        assert_eq!(parse_side("768"), Ok(768));
+        for bad in ["-1", "0", "100000", "1.5", "x"] {
+            let e = parse_side(bad).unwrap_err();
+            assert!(e.contains("from 1 to 16384"), "{e}");
+        }
+        assert_eq!(parse_spp("65536"), Ok(65536));
+        assert!(parse_spp("65537").is_err());
+        assert!(parse_spp("-1").unwrap_err().contains("samples per pixel"));
+        assert!(check_side(100_000).is_err() && check_side(16384).is_ok());
+    }
+}

@@ -217,6 +217,31 @@ fn bad_scenes_are_refused_naming_the_file_and_the_field() {
             with(base.clone(), "settings/frames", Value::Null),
             &["settings", "frames"],
         ),
+        // Magnitudes the tracer's 32-bit floats cannot carry (docs/limits.md).
+        (
+            with(base.clone(), "objects/1/radius", json!(1e20)),
+            &["objects[1].radius", "1e20", "at most 1e7"],
+        ),
+        (
+            with(base.clone(), "objects/1/radius", json!(1e10)),
+            &["objects[1].radius", "at most 1e7"],
+        ),
+        (
+            with(
+                base.clone(),
+                "settings/environment",
+                json!({"file": "x.hdr", "intensity": 1e38}),
+            ),
+            &["settings.environment.intensity", "at most 1e7"],
+        ),
+        (
+            with(
+                with(base.clone(), "settings/start_time", json!(-100)),
+                "objects/0/velocity",
+                json!([1e6, 0, 0]),
+            ),
+            &["objects[0].velocity", "velocity x time"],
+        ),
     ];
     for (scene, words) in cases {
         let err = match Scene::from_json(&scene.to_string(), &file) {
@@ -272,6 +297,22 @@ fn a_job_renders_a_real_scene_with_its_overrides() {
     let err = format!("{:#}", load_source(&path, &too_long).err().unwrap());
     assert!(
         err.contains("scene.json") && err.contains("settings.frames"),
+        "{err}"
+    );
+}
+
+#[test]
+fn scene_text_is_whole_json_and_may_start_with_a_byte_order_mark() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.json");
+    let text = valid(dir.path()).to_string();
+    Scene::from_json(&format!("\u{feff}{text}"), &file).expect("a BOM is skipped");
+    let err = format!(
+        "{:#}",
+        Scene::from_json(&format!("{text} {{\"x\": 1}}"), &file).unwrap_err()
+    );
+    assert!(
+        err.contains("s.json") && err.contains("nothing after"),
         "{err}"
     );
 }

@@ -26,7 +26,7 @@ pub struct ConvergeArgs {
     #[arg(long, default_value = "truncated_box")]
     pub time_filter: String,
     /// Samples per pixel of the reference [default: 4 x the highest level].
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_spp, allow_hyphen_values = true)]
     pub reference_spp: Option<u32>,
     /// Point set of the reference.
     #[arg(long, default_value = "sobol")]
@@ -35,10 +35,10 @@ pub struct ConvergeArgs {
     #[arg(long, value_delimiter = ',')]
     pub frames: Vec<u32>,
     /// Image width in pixels (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
     pub width: Option<u32>,
     /// Image height in pixels (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
     pub height: Option<u32>,
     /// Master seed of the levels (the reference's is derived from it).
     #[arg(long, default_value_t = 1)]

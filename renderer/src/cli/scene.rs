@@ -18,7 +18,7 @@ pub struct SceneArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Samples per pixel (default: the scene's settings.sampling.spp).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_spp, allow_hyphen_values = true)]
     pub spp: Option<u32>,
     /// Point set (default: the scene's).
     #[arg(long)]
@@ -28,7 +28,7 @@ pub struct SceneArgs {
     pub time_filter: Option<String>,
     /// Scene frames to render: `a..b` (b excluded), `a..=b`, or one frame `n`
     /// (default: all of the scene's frames).
-    #[arg(long, value_parser = parse_frames)]
+    #[arg(long, value_parser = parse_frames, allow_hyphen_values = true)]
     pub frames: Option<Range<u32>>,
     /// Also write 32-bit float linear EXR frames.
     #[arg(long)]
@@ -37,10 +37,10 @@ pub struct SceneArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Image width in pixels (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
     pub width: Option<u32>,
     /// Image height in pixels (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
     pub height: Option<u32>,
     /// Hide the progress bar.
     #[arg(long)]
@@ -50,9 +50,9 @@ pub struct SceneArgs {
 /// `a..b`, `a..=b` or `n`.
 pub fn parse_frames(s: &str) -> Result<Range<u32>, String> {
     let num = |t: &str| {
-        t.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("`{s}`: expected frames as a..b, a..=b or n"))
+        t.trim().parse::<u32>().map_err(|_| {
+            format!("`{s}`: expected frames as a..b, a..=b or n, with frame numbers from 0")
+        })
     };
     let r = if let Some((a, b)) = s.split_once("..=") {
         num(a)?..num(b)?.saturating_add(1)

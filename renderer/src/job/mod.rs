@@ -316,11 +316,12 @@ impl Job {
             }
         }
         let o = &f.overrides;
-        for (field, v) in [
-            ("overrides.width", o.width),
-            ("overrides.height", o.height),
-            ("overrides.frames", o.frames),
-        ] {
+        for (field, v) in [("overrides.width", o.width), ("overrides.height", o.height)] {
+            if let Some(v) = v {
+                crate::limits::check_side(v).map_err(|e| at(field, e))?;
+            }
+        }
+        for (field, v) in [("overrides.frames", o.frames)] {
             if v == Some(0) {
                 return Err(at(field, "is 0; expected at least 1".into()));
             }

@@ -25,16 +25,26 @@ use std::sync::Arc;
 use crate::limits::MAX_IMAGE_SIDE as MAX_SIZE;
 
 /// Parse scene text; a syntax or type error names the field path where it happened.
+/// A UTF-8 byte-order mark (some Windows editors write one) is skipped; anything after the
+/// scene's closing brace is refused, as in job files.
 pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let file = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let field = e.path().to_string();
         if field == "." || field.is_empty() {
             anyhow!("{}: {}", path.display(), e.inner())
         } else {
             anyhow!("{}: field `{field}`: {}", path.display(), e.inner())
         }
-    })
+    })?;
+    de.end().map_err(|e| {
+        anyhow!(
+            "{}: {e}: expected nothing after the scene's closing `}}`",
+            path.display()
+        )
+    })?;
+    Ok(file)
 }
 
 /// Errors of one file.
@@ -285,6 +295,9 @@ pub fn build_mapped(f: SceneFile, path: &Path, map: Option<&SourceMap>) -> Resul
     let settings = settings(&c, &f.settings)?;
     let camera = camera(&c, &f.camera, &settings)?;
     let mut warnings = Vec::new();
+    // After the fields with their own range (Phong exponent, sizes), which name it first;
+    // before the environment map is read.
+    super::magnitude::check(&f).map_err(|(field, what)| c.err(field, what))?;
     let environment = match &f.settings.environment {
         None => None,
         Some(e) => {

@@ -9,6 +9,7 @@ pub mod block_format;
 pub mod build;
 pub mod file;
 pub mod graph;
+mod magnitude;
 
 pub use file::{SCENE_FORMAT, SceneFile};
 
