@@ -4,19 +4,30 @@
 //! The mapping is the one of [`crate::procedural::sky::direction`]: u = 0.5 looks along -z,
 //! u = 0.75 along +x, row 0 is the zenith (+y). Loading sanitises the texels so that no NaN or
 //! infinity can reach a frame: NaN becomes 0, values above [`MAX_RADIANCE`] (infinity
-//! included) are clamped to it, with a warning naming the file; negative values (lossy EXR
-//! compression leaves some around -0.003) become 0 silently.
+//! included) are clamped to it, with a warning naming the file. Negative values (lossy EXR
+//! compression leaves some around -0.003; a DWAB-compressed capture held thousands, down to
+//! -3894) are counted with the share of the map's energy they carry: clamped to 0 with a
+//! warning up to [`MAX_NEGATIVE_SHARE`], refused above it unless the scene says how to treat
+//! them (`environment.negatives`, `docs/limits.md`).
 
 use glam::{Vec3, Vec3A};
 use std::f32::consts::PI;
 use std::path::Path;
 
+use crate::scene::file::NegativeTexels;
 use anyhow::{Context, Result, bail};
 
 /// Largest radiance kept from a map. Real HDR captures peak around 1e5 (the sun; half floats
 /// stop at 65504), so this only removes broken values while keeping sums of thousands of
 /// samples far from f32 overflow.
 pub const MAX_RADIANCE: f32 = 1e6;
+
+/// Largest share of a map's energy (absolute values, weighted by each texel's solid angle) that
+/// its negative texels may carry before loading refuses the map, unless the scene sets
+/// `environment.negatives`. Compression noise around zero carries orders of magnitude less; a
+/// map above 0.1% has lost light in a way that clamping would visibly change (clamping adds
+/// that energy to the sky).
+pub const MAX_NEGATIVE_SHARE: f64 = 1e-3;
 
 #[derive(Clone, Debug)]
 pub struct Environment {
@@ -29,11 +40,13 @@ pub struct Environment {
 }
 
 /// What sanitising changed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Repairs {
     pub nan: usize,
     pub too_large: usize,
     pub negative: usize,
+    /// Share of the map's energy carried by the negative values (see [`MAX_NEGATIVE_SHARE`]).
+    pub negative_share: f64,
 }
 
 impl Environment {
@@ -46,7 +59,11 @@ impl Environment {
         rotation_degrees: f32,
     ) -> (Self, Repairs) {
         assert_eq!(texels.len(), width * height, "texel count");
-        let repairs = sanitise(&mut texels);
+        let negative_share = negative_share(&texels, width, height);
+        let repairs = Repairs {
+            negative_share,
+            ..sanitise(&mut texels)
+        };
         let r = rotation_degrees.to_radians();
         (
             Self {
@@ -66,21 +83,31 @@ impl Environment {
         path: &Path,
         intensity: f32,
         rotation_degrees: f32,
+        negatives: Option<NegativeTexels>,
     ) -> Result<(Self, Option<String>)> {
         let (texels, w, h) = read_texels(path)?;
         if w == 0 || h == 0 {
             bail!("{}: the environment map is empty", path.display());
         }
         let (env, r) = Self::new(w, h, texels, intensity, rotation_degrees);
-        let warning = (r.nan + r.too_large > 0).then(|| {
-            format!(
-                "{}: {} texels held NaN and {} infinity or values above {MAX_RADIANCE:e}; \
-                 NaN was replaced by 0 and the others clamped to {MAX_RADIANCE:e}",
-                path.display(),
-                r.nan,
-                r.too_large
-            )
-        });
+        check_negatives(path, &r, negatives)?;
+        let mut notes = Vec::new();
+        if r.nan + r.too_large > 0 {
+            notes.push(format!(
+                "{} texels held NaN and {} infinity or values above {MAX_RADIANCE:e}; NaN was \
+                 replaced by 0 and the others clamped to {MAX_RADIANCE:e}",
+                r.nan, r.too_large
+            ));
+        }
+        if r.negative > 0 {
+            notes.push(format!(
+                "{} negative texel values, carrying {} of the map's energy, were clamped to 0",
+                r.negative,
+                percent(r.negative_share)
+            ));
+        }
+        let warning =
+            (!notes.is_empty()).then(|| format!("{}: {}", path.display(), notes.join("; ")));
         Ok((env, warning))
     }
 
@@ -118,6 +145,61 @@ impl Environment {
     }
 }
 
+/// Refuse a map whose negative texels the scene does not accept (see [`MAX_NEGATIVE_SHARE`]).
+fn check_negatives(path: &Path, r: &Repairs, policy: Option<NegativeTexels>) -> Result<()> {
+    let share = percent(r.negative_share);
+    match policy {
+        _ if r.negative == 0 => Ok(()),
+        Some(NegativeTexels::Clamp) => Ok(()),
+        Some(NegativeTexels::Refuse) => bail!(
+            "{}: {} texel values are negative ({share} of the map's energy) and the \
+             scene's `environment.negatives` is \"refuse\"",
+            path.display(),
+            r.negative
+        ),
+        None if r.negative_share > MAX_NEGATIVE_SHARE => bail!(
+            "{}: {} texel values are negative, carrying {share} of the map's energy \
+             (more than {}%): clamping them to 0 would add that much light. Fix the map, or \
+             set the scene's `environment.negatives` to \"clamp\" (clamp anyway) or \
+             \"refuse\" (envmapnegatives in a .scene; docs/limits.md)",
+            path.display(),
+            r.negative,
+            100.0 * MAX_NEGATIVE_SHARE
+        ),
+        None => Ok(()),
+    }
+}
+
+/// A share as a percentage a reader can compare: two decimals, or two digits when smaller.
+fn percent(share: f64) -> String {
+    let p = 100.0 * share;
+    if p >= 0.01 || p == 0.0 {
+        format!("{p:.2}%")
+    } else {
+        format!("{p:.1e}%")
+    }
+}
+
+/// Σ|negative values| / Σ|all finite values|, each texel weighted by its solid angle in the
+/// lat-long mapping (sin θ of its row's centre): the share of the map's energy that clamping
+/// negatives to 0 changes.
+fn negative_share(texels: &[Vec3], width: usize, height: usize) -> f64 {
+    let (mut negative, mut all) = (0.0f64, 0.0f64);
+    for (row, line) in texels.chunks(width.max(1)).enumerate() {
+        let w = (std::f64::consts::PI * (row as f64 + 0.5) / height as f64).sin();
+        for c in line.iter().flat_map(|t| t.to_array()) {
+            let c = c as f64;
+            if c.is_finite() {
+                all += w * c.abs().min(MAX_RADIANCE as f64);
+                if c < 0.0 {
+                    negative += w * (-c).min(MAX_RADIANCE as f64);
+                }
+            }
+        }
+    }
+    if all > 0.0 { negative / all } else { 0.0 }
+}
+
 fn sanitise(texels: &mut [Vec3]) -> Repairs {
     let mut r = Repairs::default();
     for t in texels.iter_mut() {
@@ -144,8 +226,12 @@ fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
         .unwrap_or_default();
     match ext.as_str() {
         "exr" => {
-            let (px, w, h) = crate::job::linear_frame::read_exr(path)
-                .with_context(|| format!("cannot read environment map {}", path.display()))?;
+            let (px, w, h) = crate::job::linear_frame::read_exr(path).with_context(|| {
+                format!(
+                    "cannot read environment map {} as an OpenEXR image (the scene's sky)",
+                    path.display()
+                )
+            })?;
             Ok((
                 px.into_iter().map(Vec3::from).collect(),
                 w as usize,
@@ -154,7 +240,12 @@ fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
         }
         "hdr" => {
             let img = image::open(path)
-                .with_context(|| format!("cannot read environment map {}", path.display()))?
+                .with_context(|| {
+                    format!(
+                        "cannot read environment map {} as a Radiance HDR image (the scene's sky)",
+                        path.display()
+                    )
+                })?
                 .into_rgb32f();
             let (w, h) = img.dimensions();
             let px = img.pixels().map(|p| Vec3::from(p.0)).collect();
@@ -233,9 +324,11 @@ mod tests {
             Repairs {
                 nan: 1,
                 too_large: 2,
-                negative: 2
+                negative: 2,
+                negative_share: r.negative_share,
             }
         );
+        assert!(r.negative_share > 0.0 && r.negative_share < 1e-3);
         assert!(
             env.texels
                 .iter()
@@ -245,5 +338,43 @@ mod tests {
         for d in [Vec3A::X, Vec3A::Y, Vec3A::NEG_Z, Vec3A::ZERO, Vec3A::NAN] {
             assert!(env.radiance(d).is_finite());
         }
+    }
+
+    fn exr_map(dir: &Path, texels: &[[f32; 3]], w: u32, h: u32) -> std::path::PathBuf {
+        let path = dir.join("map.exr");
+        let bytes = crate::job::linear_frame::exr_bytes(texels, w, h).unwrap();
+        std::fs::write(&path, bytes).unwrap();
+        path
+    }
+
+    #[test]
+    fn negative_texels_are_clamped_below_the_share_and_refused_above_it() {
+        let dir = tempfile::tempdir().unwrap();
+        // 4 x 2 map of radiance 1; one texel value -0.003 (compression noise), then -2.
+        let mut texels = vec![[1.0f32; 3]; 8];
+        texels[5][1] = -0.003;
+        let path = exr_map(dir.path(), &texels, 4, 2);
+        let (env, warning) = Environment::load(&path, 1.0, 0.0, None).unwrap();
+        let w = warning.unwrap();
+        assert!(
+            w.contains("1 negative texel values") && w.contains("clamped to 0"),
+            "{w}"
+        );
+        assert!(env.texels.iter().all(|t| t.min_element() >= 0.0));
+        let e = Environment::load(&path, 1.0, 0.0, Some(NegativeTexels::Refuse)).unwrap_err();
+        assert!(format!("{e:#}").contains("map.exr"), "{e:#}");
+        texels[5][1] = -2.0;
+        let path = exr_map(dir.path(), &texels, 4, 2);
+        let e = format!(
+            "{:#}",
+            Environment::load(&path, 1.0, 0.0, None).unwrap_err()
+        );
+        // Σ|c| sin θ: rows at θ = π/4 and 3π/4 weigh alike, so the share is 2 / 25 = 8%.
+        assert!(
+            e.contains("map.exr") && e.contains("8.00% of the map's energy"),
+            "{e}"
+        );
+        let (_, w) = Environment::load(&path, 1.0, 0.0, Some(NegativeTexels::Clamp)).unwrap();
+        assert!(w.unwrap().contains("carrying 8.00% of"));
     }
 }

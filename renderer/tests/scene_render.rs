@@ -407,7 +407,7 @@ fn third_party_models_and_maps_load_and_render_without_nan() {
             "camera": {"location": (centre + Vec3::new(0.3, 0.5, 2.5) * diag).to_array(),
                        "look_at": centre.to_array(), "fov": 40},
             "settings": settings([24, 24], json!({
-                "environment": {"file": map}, "ambient_light": [0.5, 0.5, 0.5]
+                "environment": {"file": map, "negatives": "clamp"}, "ambient_light": [0.5, 0.5, 0.5]
             })),
         });
         let (film, stats) = render(&load(&v, &assets), 4, 0);
@@ -420,5 +420,45 @@ fn third_party_models_and_maps_load_and_render_without_nan() {
             render(&load(&bare, &assets), 4, 0).0,
             "{what}: model not seen"
         );
+    }
+}
+
+/// Real maps' negative texels (a DWAB-compressed capture holds thousands): counted with the
+/// energy they carry, refused above the documented share unless the scene says to clamp them,
+/// clamped with a warning below it.
+#[test]
+fn third_party_maps_negative_texels_are_counted_and_refused_above_the_share() {
+    use renderer::environment::{Environment, MAX_NEGATIVE_SHARE};
+    use renderer::scene::file::NegativeTexels;
+    let Some(assets) = shared_assets() else {
+        eprintln!("skipped: no ../shared/assets folder (set BLURLAB_SHARED_ASSETS to use one)");
+        return;
+    };
+    for map in files_with(&assets, "exr") {
+        let (_, warning) = Environment::load(&map, 1.0, 0.0, Some(NegativeTexels::Clamp)).unwrap();
+        let plain = Environment::load(&map, 1.0, 0.0, None);
+        let refuse = Environment::load(&map, 1.0, 0.0, Some(NegativeTexels::Refuse));
+        eprintln!("{}: {warning:?}", map.display());
+        match warning
+            .as_deref()
+            .and_then(|w| w.split(" negative texel values, carrying ").nth(1))
+        {
+            None => assert!(plain.is_ok() && refuse.is_ok(), "{}", map.display()),
+            Some(rest) => {
+                let pct: f64 = rest.split('%').next().unwrap().parse().unwrap();
+                assert!(pct > 0.0, "{rest}");
+                let e = format!("{:#}", refuse.unwrap_err());
+                assert!(e.contains("\"refuse\""), "{e}");
+                if pct / 100.0 > MAX_NEGATIVE_SHARE {
+                    let e = format!("{:#}", plain.unwrap_err());
+                    assert!(
+                        e.contains("of the map's energy") && e.contains("negatives"),
+                        "{e}"
+                    );
+                } else {
+                    assert!(plain.unwrap().1.is_some());
+                }
+            }
+        }
     }
 }

@@ -172,6 +172,7 @@ fn figure_13_reads_as_printed() {
                 file: "data/CedarCity.hdr".into(),
                 intensity: 1.0,
                 rotation: 0.0,
+                negatives: None,
             }),
             exposure: 1.0,
             sampling: SamplingConfig {
@@ -647,6 +648,7 @@ fn settings() -> impl Strategy<Value = SettingsDesc> {
                 file,
                 intensity,
                 rotation,
+                negatives: None,
             }),
             sampling: SamplingConfig {
                 point_set: sampling.0,

@@ -31,6 +31,9 @@ impl TriangleMesh {
             path: path.to_owned(),
             what,
         };
+        if path.is_dir() {
+            return Err(content("is a folder; expected an OBJ file".into()));
+        }
         let file = std::fs::File::open(path).map_err(|source| ObjError::Io {
             path: path.to_owned(),
             source,
@@ -126,5 +129,8 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("no faces"), "{e}");
+        let dir = tempfile::tempdir().unwrap();
+        let e = TriangleMesh::from_obj(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("is a folder; expected an OBJ file"), "{e}");
     }
 }

@@ -310,7 +310,7 @@ pub fn build_mapped(f: SceneFile, path: &Path, map: Option<&SourceMap>) -> Resul
                 ));
             }
             let file = dir.join(&e.file);
-            let (env, warning) = Environment::load(&file, intensity, e.rotation)
+            let (env, warning) = Environment::load(&file, intensity, e.rotation, e.negatives)
                 .map_err(|err| c.err("settings.environment.file", format!("{err:#}")))?;
             warnings.extend(warning);
             Some(Arc::new(env))

@@ -7,7 +7,7 @@ use crate::scene::SCENE_FORMAT;
 use crate::scene::file::{
     CameraDesc, DEFAULT_FPS, DEFAULT_MAX_DEPTH, DEFAULT_PHONG_EXPONENT, DEFAULT_UP,
     EnvironmentDesc, FresnelDesc, GroupDesc, InstanceDesc, LightDesc, LightKind, MaterialDesc,
-    ObjectDesc, ObjectKind, Scale, SceneFile, SettingsDesc,
+    NegativeTexels, ObjectDesc, ObjectKind, Scale, SceneFile, SettingsDesc,
 };
 use crate::text::sampling::{self as options, Host};
 use crate::text::{self, Entries, Entry, SourceMap, at_line, names};
@@ -371,9 +371,16 @@ fn settings_block(e: &mut Entries) -> Result<Settings> {
             rotation: e
                 .f32("envmaprotation", "settings.environment.rotation")?
                 .unwrap_or(0.0),
+            negatives: e
+                .choice(
+                    "envmapnegatives",
+                    "settings.environment.negatives",
+                    &NegativeTexels::NAMES,
+                )?
+                .and_then(|w| NegativeTexels::from_name(&w)),
         }),
         None => {
-            for key in ["envmapintensity", "envmaprotation"] {
+            for key in ["envmapintensity", "envmaprotation", "envmapnegatives"] {
                 if let Some(entry) = e.take(key, "settings.environment") {
                     return Err(e.error(&entry, "needs an `envmap` line in the same block"));
                 }

@@ -177,6 +177,9 @@ fn settings(
         o.word("envmap", &e.file);
         o.f32_unless("envmapintensity", e.intensity, 1.0);
         o.f32_unless("envmaprotation", e.rotation, 0.0);
+        if let Some(n) = e.negatives {
+            o.word("envmapnegatives", n.name());
+        }
     }
     o.f32_unless("exposure", s.exposure, 1.0);
     if let Some(n) = name {
