@@ -163,6 +163,11 @@ pub fn run_with_sources(
 ) -> Result<RunReport> {
     let plan = Plan::new(job, sources)?;
     let job_dir = opts.out_dir.join(&job.name);
+    let shard = match opts.finalize {
+        Finalize::Only => Shard::WHOLE,
+        _ => opts.shard,
+    };
+    let _lock = super::lock::JobLock::acquire(&job_dir, shard)?;
     stamp_stimuli(job, &plan, &job_dir)?;
     let mut report = RunReport {
         job_dir: job_dir.clone(),
@@ -193,6 +198,7 @@ pub fn run_with_sources(
             );
         }
         report.manifest = Some(finalize_job(job, &plan, &job_dir)?);
+        super::lock::remove_stale_temporaries(&job_dir);
     }
     Ok(report)
 }
@@ -455,7 +461,7 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
                 exr_paths.push(format!("{}/{}", spec.id, record::exr_name(f)));
             }
         }
-        remove_temp_files(&dir);
+        super::lock::remove_stale_temporaries(&dir);
         m.stimuli.push(manifest::Stimulus {
             id: spec.id.clone(),
             scene: spec.scene.clone(),
@@ -518,20 +524,6 @@ fn measure_late(
         let _ = std::fs::remove_file(&exr);
     }
     Ok(rec)
-}
-
-/// Remove temporary files an interrupted run left (`.name.PID.tmp`). Only called when every
-/// frame exists, so no live writer owns them.
-fn remove_temp_files(dir: &Path) {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return;
-    };
-    for e in entries.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        if name.starts_with('.') && name.ends_with(".tmp") {
-            let _ = std::fs::remove_file(e.path());
-        }
-    }
 }
 
 /// Counts and a time estimate for a job, without rendering it.
