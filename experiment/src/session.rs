@@ -211,7 +211,17 @@ impl Session {
         if self.writer.is_some() {
             bail!("session {} already started", self.log_path.display());
         }
-        if self.existing.is_some() {
+        if let Some(log) = &self.existing {
+            if log.header.mode != info.mode {
+                bail!(
+                    "{}: field `mode` is {:?}, but this session is {:?}: a log holds one \
+                     kind of answers (a person's or a simulated observer's), and `analyze` \
+                     must not mix them. Write this session to another folder",
+                    self.log_path.display(),
+                    log.header.mode,
+                    info.mode
+                );
+            }
             let (mut w, warning) = LogWriter::reopen(&self.log_path, self.durability)?;
             if let Some(warning) = warning {
                 // The writer's account of the torn line (what it removed) replaces the reader's.

@@ -6,7 +6,7 @@ use crate::design::Design;
 use crate::log_writer::Durability;
 use crate::observer::Observer;
 use crate::session::{Session, Stage, StartInfo, Timing};
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 
@@ -45,6 +45,7 @@ pub fn simulate_subject(
     path: &Path,
 ) -> Result<()> {
     if path.exists() {
+        refuse_a_persons_log(path)?;
         std::fs::remove_file(path).with_context(|| format!("cannot replace {}", path.display()))?;
     }
     let mut session = Session::open(design, subject, path, Durability::Flush)?;
@@ -55,6 +56,29 @@ pub fn simulate_subject(
         started_unix: 0.0,
     })?;
     answer_all(&mut session, observer)
+}
+
+/// A simulation replaces its own earlier logs, never a person's: a log whose header says
+/// another mode than `simulated` (or that cannot be read as a log) is left alone.
+fn refuse_a_persons_log(path: &Path) -> Result<()> {
+    let first = std::fs::read(path)
+        .ok()
+        .and_then(|b| b.split(|&c| c == b'\n').next().map(<[u8]>::to_vec))
+        .unwrap_or_default();
+    let mode = serde_json::from_slice::<serde_json::Value>(&first)
+        .ok()
+        .and_then(|v| v.get("mode").and_then(|m| m.as_str()).map(str::to_string));
+    match mode.as_deref() {
+        Some("simulated") => Ok(()),
+        other => bail!(
+            "{}: {}; a simulation replaces only its own logs. Simulate into another folder",
+            path.display(),
+            match other {
+                Some(m) => format!("holds a session of mode {m:?} (a person's answers)"),
+                None => "is not a simulated session log".to_string(),
+            }
+        ),
+    }
 }
 
 /// Drive a started session to its end with the observer's answers.

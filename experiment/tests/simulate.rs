@@ -106,3 +106,46 @@ fn a_design_with_another_task_is_not_presented() {
     let e = format!("{e:#}");
     assert!(e.contains("four.json") && e.contains("`task`"), "{e}");
 }
+
+/// A log holds one kind of answers: the app does not continue a simulated log with a person's
+/// answers, and a simulation does not replace a person's log (it used to delete it).
+#[test]
+fn a_log_of_another_mode_is_neither_continued_nor_replaced() {
+    use experiment::log_writer::Durability;
+    use experiment::session::{Session, StartInfo};
+    let design = Design::load(&repo("scenes/designs/thesis.json")).unwrap();
+    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let log = simulate(&design, &observer, 1, dir.path())
+        .unwrap()
+        .remove(0);
+    // Cut the simulated log after its header and a few trials, then try to go on as a person.
+    let text = std::fs::read_to_string(&log).unwrap();
+    let head: Vec<&str> = text.lines().take(4).collect();
+    std::fs::write(&log, head.join("\n") + "\n").unwrap();
+    let mut s = Session::open(&design, "s01", &log, Durability::Flush).unwrap();
+    let gui = StartInfo {
+        mode: "gui".into(),
+        display: None,
+        observer: None,
+        started_unix: 0.0,
+    };
+    let e = format!("{:#}", s.start(gui).unwrap_err());
+    assert!(
+        e.contains("s01.jsonl") && e.contains("field `mode`") && e.contains("\"simulated\""),
+        "{e}"
+    );
+    // A person's log (header mode gui) is not replaced by a simulation.
+    let persons = text.replacen("\"mode\":\"simulated\"", "\"mode\":\"gui\"", 1);
+    assert_ne!(persons, text, "the header's mode field was not found");
+    std::fs::write(&log, &persons).unwrap();
+    let e = format!(
+        "{:#}",
+        simulate(&design, &observer, 1, dir.path()).unwrap_err()
+    );
+    assert!(
+        e.contains("s01.jsonl") && e.contains("a person's answers"),
+        "{e}"
+    );
+    assert_eq!(std::fs::read_to_string(&log).unwrap(), persons);
+}
