@@ -20,6 +20,10 @@ pub struct AnalyzeArgs {
     /// A sessions folder (every *.jsonl in it) or session log files.
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
+    /// Leave out main trials that fail the log checks (answer fields, indices, mode, and the
+    /// design's plan with --design), with a warning each, instead of stopping at the first.
+    #[arg(long)]
+    pub lenient: bool,
     /// Report folder (created; files in it are replaced atomically).
     #[arg(long)]
     pub out: PathBuf,
@@ -224,7 +228,7 @@ pub fn run_report(args: &AnalyzeArgs) -> Result<Report> {
         args.settings()?;
     }
     let design = args.design.as_deref().map(Design::load).transpose()?;
-    let mut ds = Dataset::read(&args.inputs)?;
+    let mut ds = Dataset::read_checked(&args.inputs, design.as_ref(), args.lenient)?;
     if let Some(d) = &design {
         check_design(d, &ds)?;
     }

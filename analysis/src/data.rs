@@ -6,6 +6,7 @@
 //! [`Curve`] per subject and one pooled over subjects.
 
 use anyhow::{Result, bail};
+use experiment::Design;
 use experiment::log::SessionLog;
 use serde::Serialize;
 use std::collections::{BTreeMap, HashMap};
@@ -228,6 +229,18 @@ impl Dataset {
     /// Files ending in `.csv` are counts tables ([`Dataset::read_counts`]); logs and tables
     /// cannot be mixed.
     pub fn read(inputs: &[PathBuf]) -> Result<Self> {
+        Self::read_checked(inputs, None, false)
+    }
+
+    /// [`Dataset::read`], with every main trial of the logs checked ([`crate::validate`]),
+    /// against `design` when given. A finding is an error naming file, line and field; with
+    /// `lenient` the trial is left out instead and the finding becomes a warning (counted, and
+    /// printed by the report).
+    pub fn read_checked(
+        inputs: &[PathBuf],
+        design: Option<&Design>,
+        lenient: bool,
+    ) -> Result<Self> {
         let files = collect_files(inputs)?;
         let is_csv = |f: &PathBuf| f.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"));
         if let Some(csv) = files.iter().find(|f| is_csv(f)) {
@@ -244,20 +257,49 @@ impl Dataset {
         for f in &files {
             logs.push(SessionLog::read(f)?);
         }
-        Self::from_logs(&logs)
+        Self::from_logs_checked(&logs, design, lenient)
     }
 
     /// Aggregate already-read logs (see [`Dataset::read`] for the checks).
     pub fn from_logs(logs: &[SessionLog]) -> Result<Self> {
+        Self::from_logs_checked(logs, None, false)
+    }
+
+    /// [`Dataset::from_logs`] with the checks of [`Dataset::read_checked`].
+    pub fn from_logs_checked(
+        logs: &[SessionLog],
+        design: Option<&Design>,
+        lenient: bool,
+    ) -> Result<Self> {
         let Some(first) = logs.first() else {
             bail!("no session logs to analyze");
         };
+        let findings = crate::validate::check(logs, design);
+        if let (Some(f), false) = (findings.first(), lenient) {
+            bail!(
+                "{}{}; `analyze --lenient` leaves such trials out with a warning",
+                f.message,
+                match findings.len() {
+                    1 => String::new(),
+                    n => format!(" (and {} more findings)", n - 1),
+                }
+            );
+        }
+        let skip: std::collections::HashSet<(usize, usize)> =
+            findings.iter().map(|f| (f.log, f.trial)).collect();
         let mut obs = Vec::new();
         let mut warnings = Vec::new();
+        if !findings.is_empty() {
+            warnings.push(format!(
+                "{} main trials left out (--lenient): they failed the checks listed below",
+                findings.len()
+            ));
+            warnings.extend(findings.iter().map(|f| f.message.clone()));
+        }
         // (subject, session, trial index) -> file: a trial counted twice (a log copied under
         // another name, or given twice) would silently double its weight.
         let mut seen: HashMap<(&str, u32, u32), &Path> = HashMap::new();
-        for log in logs {
+        for (li, log) in logs.iter().enumerate() {
             if log.header.design_hash != first.header.design_hash {
                 bail!(
                     "{}: field `design_hash` is {:?} (design {:?}), but {} has {:?} (design {:?}); \
@@ -271,7 +313,8 @@ impl Dataset {
                 );
             }
             warnings.extend(log.warnings.iter().cloned());
-            for t in log.main_trials() {
+            let kept = log.trials.iter().enumerate();
+            for (_, t) in kept.filter(|(ti, t)| !t.practice && !skip.contains(&(li, *ti))) {
                 let key = (log.header.subject.as_str(), log.header.session, t.index);
                 if let Some(other) = seen.insert(key, &log.path) {
                     bail!(

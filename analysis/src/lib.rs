@@ -18,3 +18,4 @@ pub mod simulate;
 pub mod student_t;
 pub mod summary;
 pub mod ttest;
+pub mod validate;

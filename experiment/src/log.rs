@@ -135,6 +135,8 @@ pub struct SessionLog {
     pub path: PathBuf,
     pub header: Header,
     pub trials: Vec<TrialRecord>,
+    /// The line number (1-based) of each of `trials`, for messages.
+    pub trial_lines: Vec<usize>,
     /// Where the session was continued after an interruption.
     pub resumes: Vec<Resume>,
     /// Problems that were tolerated (a torn last line).
@@ -161,6 +163,7 @@ pub(crate) fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
     let lines: Vec<&str> = text.lines().collect();
     let mut header = None;
     let mut trials = Vec::new();
+    let mut trial_lines = Vec::new();
     let mut resumes = Vec::new();
     let mut warnings = Vec::new();
     for (i, line) in lines.iter().enumerate() {
@@ -188,7 +191,10 @@ pub(crate) fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
             Ok(LogLine::Trial(_)) if header.is_none() => {
                 bail!("{}:{lineno}: trial before the header line", path.display())
             }
-            Ok(LogLine::Trial(t)) => trials.push(t),
+            Ok(LogLine::Trial(t)) => {
+                trials.push(t);
+                trial_lines.push(lineno);
+            }
             Ok(LogLine::Resume(_)) if header.is_none() => {
                 bail!("{}:{lineno}: resume line before the header line", path.display())
             }
@@ -207,6 +213,7 @@ pub(crate) fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
         path: path.to_path_buf(),
         header,
         trials,
+        trial_lines,
         resumes,
         warnings,
     })

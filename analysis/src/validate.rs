@@ -1,0 +1,143 @@
+//! Every main trial of a session log checked before it counts: the answer is one of the two
+//! pairs, `correct` agrees with `response` and `diff_pair`, the index lies inside the plan the
+//! header announces, a subject's logs are all of one mode (a person's or a simulated
+//! observer's), and — with `analyze --design` — the trial is the one the design plans for that
+//! subject and index (condition, level, stimuli, pairs). A log written by the suite passes
+//! every check; a failed one means the file was edited, mixed or written elsewhere. Each
+//! finding names the file, the line and the field.
+
+use experiment::Design;
+use experiment::log::{SessionLog, TrialRecord};
+use experiment::trials::{Trial, plan};
+use std::collections::HashMap;
+
+/// One trial that does not count, with why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Finding {
+    /// Index into the logs given to [`check`].
+    pub log: usize,
+    /// Index into that log's `trials`.
+    pub trial: usize,
+    pub message: String,
+}
+
+/// Every finding over `logs` (checked against `design` when given).
+pub fn check(logs: &[SessionLog], design: Option<&Design>) -> Vec<Finding> {
+    let mut found = Vec::new();
+    let mut modes: HashMap<&str, (&str, usize)> = HashMap::new();
+    for (li, log) in logs.iter().enumerate() {
+        let h = &log.header;
+        let (mode, first) = *modes.entry(h.subject.as_str()).or_insert((&h.mode, li));
+        // A log of another design is reported by the design-hash check, not trial by trial.
+        let planned = design
+            .filter(|d| d.hash == h.design_hash)
+            .map(|d| plan(d, &h.subject).main);
+        for (ti, t) in log.trials.iter().enumerate().filter(|(_, t)| !t.practice) {
+            let at = format!("{}:{}", log.path.display(), log.trial_lines[ti]);
+            let mut problem = |message: String| {
+                found.push(Finding {
+                    log: li,
+                    trial: ti,
+                    message: format!("{at}: {message}"),
+                })
+            };
+            if mode != h.mode {
+                problem(format!(
+                    "subject {:?}: header field `mode` is {:?}, but {} is {mode:?}; a subject's \
+                     logs must hold one kind of answers",
+                    h.subject,
+                    h.mode,
+                    logs[first].path.display()
+                ));
+                continue;
+            }
+            if let Some(m) = answer_problem(t) {
+                problem(m);
+            } else if t.index >= h.trials_planned {
+                problem(format!(
+                    "field `index` is {}; the header plans {} main trials (indices 0 to {})",
+                    t.index,
+                    h.trials_planned,
+                    h.trials_planned.saturating_sub(1)
+                ));
+            } else if let Some(m) = planned
+                .as_ref()
+                .and_then(|main| plan_problem(t, main.get(t.index as usize), &h.subject))
+            {
+                problem(m);
+            }
+        }
+    }
+    found
+}
+
+/// What is wrong with a trial's answer fields on their own.
+fn answer_problem(t: &TrialRecord) -> Option<String> {
+    for (field, v) in [("response", t.response), ("diff_pair", t.diff_pair)] {
+        if !(1..=2).contains(&v) {
+            return Some(format!("field `{field}` is {v}; expected 1 or 2 (a pair)"));
+        }
+    }
+    let implied = t.response == t.diff_pair;
+    (t.correct != implied).then(|| {
+        format!(
+            "field `correct` is {}, but `response` {} and `diff_pair` {} make it {implied}",
+            t.correct, t.response, t.diff_pair
+        )
+    })
+}
+
+/// How a trial differs from the one the design plans at its index.
+fn plan_problem(t: &TrialRecord, planned: Option<&Trial>, subject: &str) -> Option<String> {
+    let Some(p) = planned else {
+        return Some(format!(
+            "field `index` is {}; the design plans fewer main trials for subject {subject:?}",
+            t.index
+        ));
+    };
+    if p.matches(t) {
+        return None;
+    }
+    let fields: [(&str, String, String); 7] = [
+        ("scene", t.scene.clone(), p.condition.scene.clone()),
+        (
+            "point_set",
+            t.point_set.clone(),
+            p.condition.point_set.clone(),
+        ),
+        (
+            "time_filter",
+            t.time_filter.clone(),
+            p.condition.time_filter.clone(),
+        ),
+        ("level", t.level.to_string(), p.level.to_string()),
+        (
+            "test_stimulus",
+            t.test_stimulus.clone(),
+            p.test_stimulus.clone(),
+        ),
+        (
+            "reference_stimulus",
+            t.reference_stimulus.clone(),
+            p.reference_stimulus.clone(),
+        ),
+        (
+            "diff_pair",
+            t.diff_pair.to_string(),
+            p.diff_pair.to_string(),
+        ),
+    ];
+    let (field, got, want) = fields
+        .into_iter()
+        .find(|(_, got, want)| got != want)
+        .unwrap_or((
+            "test_side",
+            format!("{:?}", t.test_side),
+            format!("{:?}", p.test_side),
+        ));
+    Some(format!(
+        "field `{field}` is {got:?}; the design plans {want:?} for main trial {} of subject \
+         {subject:?}",
+        t.index
+    ))
+}
