@@ -9,8 +9,9 @@
 //! former spheres scene, sun radiance 5000) fails it. What it cannot show: the per-step fall
 //! between close levels (343 to 512 is a 1.2x step, within this size's estimate noise), the
 //! other point sets, or the share of speckled pixels at the thesis size, where a highlight
-//! covers many more pixels. The full measurement (768 x 768, three frames, all seven levels
-//! 8..512, three point sets) is `blurlab render converge`, table in BENCHMARKS.md.
+//! covers many more pixels. The full measurement (768 x 768, one frame per scene, all seven
+//! levels 8..512, three point sets) is `blurlab render converge`, tables in BENCHMARKS.md and
+//! docs/benchmarks/convergence.md.
 
 use renderer::display_convergence::{Criterion, Plan, judge, measure};
 use renderer::scene::Scene;
