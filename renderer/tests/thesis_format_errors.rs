@@ -461,7 +461,7 @@ fn job_checks_after_reading_name_the_line() {
         ),
         (
             with("scene s.json\nwidth 0\n"),
-            "j.job:9: key `width` (field `overrides.width`) is 0; expected at least 1",
+            "j.job:9: key `width` (field `overrides.width`) is 0; expected 1 to 16384 pixels",
         ),
         (
             figure12().replace("Plane_scene", "Plane-scene") + "scene s.json\n",
