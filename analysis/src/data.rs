@@ -7,9 +7,10 @@
 
 use anyhow::{Result, bail};
 use experiment::Design;
-use experiment::log::SessionLog;
+use experiment::log::{SessionLog, TornHeader};
+use renderer::manifest::Manifest;
 use serde::Serialize;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// Correct answers out of trials at one tested level.
@@ -254,10 +255,37 @@ impl Dataset {
             return Self::read_counts(&files);
         }
         let mut logs = Vec::with_capacity(files.len());
+        let mut skipped = Vec::new();
         for f in &files {
-            logs.push(SessionLog::read(f)?);
+            match SessionLog::read(f) {
+                Ok(log) => logs.push(log),
+                Err(e) => match e.downcast_ref::<TornHeader>() {
+                    Some(torn) if lenient => skipped.push(format!("{torn}: skipped (--lenient)")),
+                    Some(_) => bail!(
+                        "{e}; remove the file, or `analyze --lenient` skips it with a warning"
+                    ),
+                    None => return Err(e),
+                },
+            }
         }
-        Self::from_logs_checked(&logs, design, lenient)
+        if logs.is_empty() && !skipped.is_empty() {
+            bail!("no session log to analyze: {}", skipped.join("; "));
+        }
+        let manifest = match design {
+            Some(d) if d.manifest_path.exists() => Some(Manifest::load(&d.manifest_path)?),
+            Some(d) => {
+                skipped.push(format!(
+                    "the design's manifest {} is not here: the trials' stimuli were checked \
+                     against the design only",
+                    d.manifest_path.display()
+                ));
+                None
+            }
+            None => None,
+        };
+        let mut ds = Self::from_logs_against(&logs, design, manifest.as_ref(), lenient)?;
+        ds.warnings.append(&mut skipped);
+        Ok(ds)
     }
 
     /// Aggregate already-read logs (see [`Dataset::read`] for the checks).
@@ -271,10 +299,36 @@ impl Dataset {
         design: Option<&Design>,
         lenient: bool,
     ) -> Result<Self> {
+        Self::from_logs_against(logs, design, None, lenient)
+    }
+
+    /// [`Dataset::from_logs_checked`], with the trials' stimuli also checked against the
+    /// design's `manifest`.
+    pub fn from_logs_against(
+        logs: &[SessionLog],
+        design: Option<&Design>,
+        manifest: Option<&Manifest>,
+        lenient: bool,
+    ) -> Result<Self> {
         let Some(first) = logs.first() else {
             bail!("no session logs to analyze");
         };
-        let findings = crate::validate::check(logs, design);
+        // One design first: trials of two designs are not comparable, trial by trial or at all.
+        for log in logs {
+            if log.header.design_hash != first.header.design_hash {
+                bail!(
+                    "{}: field `design_hash` is {:?} (design {:?}), but {} has {:?} (design {:?}); \
+                     analyze one design at a time",
+                    log.path.display(),
+                    log.header.design_hash,
+                    log.header.design,
+                    first.path.display(),
+                    first.header.design_hash,
+                    first.header.design
+                );
+            }
+        }
+        let findings = crate::validate::check(logs, design, manifest);
         if let (Some(f), false) = (findings.first(), lenient) {
             bail!(
                 "{}{}; `analyze --lenient` leaves such trials out with a warning",
@@ -296,44 +350,10 @@ impl Dataset {
             ));
             warnings.extend(findings.iter().map(|f| f.message.clone()));
         }
-        // (subject, session, trial index) -> file: a trial counted twice (a log copied under
-        // another name, or given twice) would silently double its weight.
-        let mut seen: HashMap<(&str, u32, u32), &Path> = HashMap::new();
         for (li, log) in logs.iter().enumerate() {
-            if log.header.design_hash != first.header.design_hash {
-                bail!(
-                    "{}: field `design_hash` is {:?} (design {:?}), but {} has {:?} (design {:?}); \
-                     analyze one design at a time",
-                    log.path.display(),
-                    log.header.design_hash,
-                    log.header.design,
-                    first.path.display(),
-                    first.header.design_hash,
-                    first.header.design
-                );
-            }
             warnings.extend(log.warnings.iter().cloned());
             let kept = log.trials.iter().enumerate();
             for (_, t) in kept.filter(|(ti, t)| !t.practice && !skip.contains(&(li, *ti))) {
-                let key = (log.header.subject.as_str(), log.header.session, t.index);
-                if let Some(other) = seen.insert(key, &log.path) {
-                    bail!(
-                        "{}: trial {} of subject {:?}, session {} is also in {}; each trial must \
-                         be counted once (is a log given twice or copied?)",
-                        log.path.display(),
-                        t.index,
-                        key.0,
-                        key.1,
-                        other.display()
-                    );
-                }
-                if t.level == 0 {
-                    bail!(
-                        "{}: trial {}: field `level` is 0; expected samples per pixel >= 1",
-                        log.path.display(),
-                        t.index
-                    );
-                }
                 obs.push(Observation {
                     subject: log.header.subject.clone(),
                     scene: t.scene.clone(),
@@ -345,10 +365,11 @@ impl Dataset {
             }
         }
         if obs.is_empty() {
+            let files: Vec<String> = logs.iter().map(|l| l.path.display().to_string()).collect();
             bail!(
-                "the session logs ({} files, first {}) hold no main trials (practice trials are not analyzed)",
-                logs.len(),
-                first.path.display()
+                "{}: no main `trial` lines to analyze (practice trials are not analyzed, and \
+                 --lenient leaves out those that fail the checks)",
+                files.join(", ")
             );
         }
         let mut ds = Self::from_observations(&obs);
@@ -415,12 +436,10 @@ impl Dataset {
             }
         }
         if obs.is_empty() {
+            let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
             bail!(
-                "the counts tables ({} files, first {}) hold no trials",
-                files.len(),
-                files
-                    .first()
-                    .map_or(String::new(), |f| f.display().to_string())
+                "{}: no rows with trials; expected a header line and rows of counts",
+                names.join(", ")
             );
         }
         let mut ds = Self::from_observations(&obs);

@@ -2,13 +2,15 @@
 //! pairs, `correct` agrees with `response` and `diff_pair`, the index lies inside the plan the
 //! header announces, a subject's logs are all of one mode (a person's or a simulated
 //! observer's), and — with `analyze --design` — the trial is the one the design plans for that
-//! subject and index (condition, level, stimuli, pairs). A log written by the suite passes
+//! subject and index (condition, level, stimuli, pairs) and its stimuli are ones the design's
+//! manifest lists, rendered for the trial's condition and level. A log written by the suite passes
 //! every check; a failed one means the file was edited, mixed or written elsewhere. Each
 //! finding names the file, the line and the field.
 
 use experiment::Design;
 use experiment::log::{SessionLog, TrialRecord};
 use experiment::trials::{Trial, plan};
+use renderer::manifest::Manifest;
 use std::collections::HashMap;
 
 /// One trial that does not count, with why.
@@ -21,10 +23,17 @@ pub struct Finding {
     pub message: String,
 }
 
-/// Every finding over `logs` (checked against `design` when given).
-pub fn check(logs: &[SessionLog], design: Option<&Design>) -> Vec<Finding> {
+/// Every finding over `logs` (checked against `design` and its `manifest` when given).
+pub fn check(
+    logs: &[SessionLog],
+    design: Option<&Design>,
+    manifest: Option<&Manifest>,
+) -> Vec<Finding> {
     let mut found = Vec::new();
     let mut modes: HashMap<&str, (&str, usize)> = HashMap::new();
+    // (subject, session, index) -> where it was first seen: a trial counted twice (a log
+    // copied under another name, given twice, or edited) would silently double its weight.
+    let mut seen: HashMap<(&str, u32, u32), String> = HashMap::new();
     for (li, log) in logs.iter().enumerate() {
         let h = &log.header;
         let (mode, first) = *modes.entry(h.subject.as_str()).or_insert((&h.mode, li));
@@ -51,6 +60,16 @@ pub fn check(logs: &[SessionLog], design: Option<&Design>) -> Vec<Finding> {
                 ));
                 continue;
             }
+            let key = (h.subject.as_str(), h.session, t.index);
+            if let Some(first) = seen.get(&key) {
+                problem(format!(
+                    "field `index` is {}: main trial {} of subject {:?}, session {} is already at \
+                     {first}; each trial must be counted once (is a log given twice or copied?)",
+                    t.index, t.index, key.0, key.1
+                ));
+                continue;
+            }
+            seen.insert(key, at.clone());
             if let Some(m) = answer_problem(t) {
                 problem(m);
             } else if t.index >= h.trials_planned {
@@ -65,10 +84,39 @@ pub fn check(logs: &[SessionLog], design: Option<&Design>) -> Vec<Finding> {
                 .and_then(|main| plan_problem(t, main.get(t.index as usize), &h.subject))
             {
                 problem(m);
+            } else if let Some(m) = manifest.and_then(|m| manifest_problem(t, m)) {
+                problem(m);
             }
         }
     }
     found
+}
+
+/// How a trial's stimuli disagree with the manifest they were rendered into.
+fn manifest_problem(t: &TrialRecord, m: &Manifest) -> Option<String> {
+    for (field, id) in [
+        ("test_stimulus", &t.test_stimulus),
+        ("reference_stimulus", &t.reference_stimulus),
+    ] {
+        if m.get(id).is_none() {
+            return Some(format!(
+                "field `{field}` is {id:?}, which the manifest of job {:?} does not list",
+                m.job
+            ));
+        }
+    }
+    let s = m.get(&t.test_stimulus)?;
+    let rendered = [
+        ("scene", s.scene.clone(), t.scene.clone()),
+        ("point_set", s.point_set.clone(), t.point_set.clone()),
+        ("time_filter", s.time_filter.clone(), t.time_filter.clone()),
+        ("level", s.spp.to_string(), t.level.to_string()),
+    ];
+    let (field, want, got) = rendered.into_iter().find(|(_, want, got)| want != got)?;
+    Some(format!(
+        "field `{field}` is {got:?}, but the manifest rendered its test stimulus {:?} with {want:?}",
+        t.test_stimulus
+    ))
 }
 
 /// What is wrong with a trial's answer fields on their own.
@@ -77,6 +125,9 @@ fn answer_problem(t: &TrialRecord) -> Option<String> {
         if !(1..=2).contains(&v) {
             return Some(format!("field `{field}` is {v}; expected 1 or 2 (a pair)"));
         }
+    }
+    if t.level == 0 {
+        return Some("field `level` is 0; expected samples per pixel >= 1".into());
     }
     let implied = t.response == t.diff_pair;
     (t.correct != implied).then(|| {

@@ -276,7 +276,7 @@ fn counts_tables_are_checked_line_by_line() {
         (
             "subject,scene,point_set,time_filter,level,correct,trials\n",
             "t.csv",
-            "no trials",
+            "no rows with trials",
         ),
     ];
     for (text, at, what) in cases {

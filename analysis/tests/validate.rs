@@ -11,17 +11,54 @@ fn repo(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(p)
 }
 
-/// One simulated subject of the demo design; returns the log's path and lines.
+/// One simulated subject of the demo design (copied into `dir` with a manifest of its
+/// stimuli beside it, so that the manifest check runs); returns the log's path and lines.
 fn one_log(dir: &Path) -> (PathBuf, Vec<String>, Design) {
-    let design = Design::load(&repo("scenes/designs/demo.json")).unwrap();
+    let text = std::fs::read_to_string(repo("scenes/designs/demo.json")).unwrap();
+    let copy = dir.join("design.json");
+    std::fs::write(
+        &copy,
+        text.replace("../../stimuli/demo/manifest.json", "manifest.json"),
+    )
+    .unwrap();
+    let design = Design::load(&copy).unwrap();
     let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
-    let log = simulate(&design, &observer, 1, dir).unwrap().remove(0);
-    let lines = std::fs::read_to_string(&log)
+    let log = simulate(&design, &observer, 1, &dir.join("sessions"))
+        .unwrap()
+        .remove(0);
+    let lines: Vec<String> = std::fs::read_to_string(&log)
         .unwrap()
         .lines()
         .map(str::to_string)
         .collect();
+    write_manifest(&dir.join("manifest.json"), &lines, |_| {});
     (log, lines, design)
+}
+
+/// A manifest listing every stimulus the log's trials name, as rendered for their condition;
+/// `edit` may change an entry first.
+fn write_manifest(path: &Path, lines: &[String], edit: impl Fn(&mut serde_json::Value)) {
+    let mut stimuli = std::collections::BTreeMap::new();
+    for l in lines {
+        let v: serde_json::Value = serde_json::from_str(l).unwrap();
+        if v["kind"] != "trial" {
+            continue;
+        }
+        for (key, reference) in [("test_stimulus", false), ("reference_stimulus", true)] {
+            let id = v[key].as_str().unwrap().to_string();
+            let mut s = serde_json::json!({
+                "id": id, "scene": v["scene"], "point_set": v["point_set"],
+                "time_filter": v["time_filter"], "spp": if reference { 343 } else { v["level"].as_u64().unwrap() },
+                "reference": reference, "seed": 1, "width": 8, "height": 8, "frames": 1,
+                "fps": 30.0, "frame_paths": ["f.png"], "content_hash": "00", "render_seconds": 0.1
+            });
+            edit(&mut s);
+            stimuli.insert(id, s);
+        }
+    }
+    let m = serde_json::json!({"format": "blurlab-manifest/1", "job": "demo",
+        "stimuli": stimuli.into_values().collect::<Vec<_>>()});
+    std::fs::write(path, serde_json::to_string_pretty(&m).unwrap()).unwrap();
 }
 
 /// The line (1-based) of the first main trial.
@@ -118,10 +155,52 @@ fn edited_trials_are_refused_naming_file_line_and_field() {
             assert!(Dataset::read_checked(std::slice::from_ref(&log), None, false).is_err());
         }
     }
-    // The unedited log passes every check, with the design too.
+    // The unedited log passes every check, with the design (and its manifest) too.
     std::fs::write(&log, lines.join("\n") + "\n").unwrap();
     let ds = Dataset::read_checked(std::slice::from_ref(&log), Some(&design), false).unwrap();
     assert!(ds.warnings.is_empty(), "{:?}", ds.warnings);
+}
+
+#[test]
+fn trials_are_checked_against_the_designs_manifest() {
+    let dir = tempfile::tempdir().unwrap();
+    let (log, lines, design) = one_log(dir.path());
+    let n = first_main(&lines);
+    let test = field(&lines[n - 1], "test_stimulus");
+    let test = test.trim_matches('"').to_string();
+    let refuse = |words: &[&str]| {
+        let e = format!(
+            "{:#}",
+            Dataset::read_checked(std::slice::from_ref(&log), Some(&design), false).unwrap_err()
+        );
+        assert!(
+            e.contains(&format!("s01.jsonl:{n}:")),
+            "no file:line in {e}"
+        );
+        for w in words {
+            assert!(e.contains(w), "`{w}` missing from {e}");
+        }
+    };
+    // The manifest does not list the trial's test stimulus (stimuli of another render).
+    let manifest = dir.path().join("manifest.json");
+    let t = test.clone();
+    write_manifest(&manifest, &lines, |s| {
+        if s["id"] == t.as_str() {
+            s["id"] = "renamed".into();
+        }
+    });
+    refuse(&["field `test_stimulus`", "does not list"]);
+    // The manifest rendered it at another density.
+    write_manifest(&manifest, &lines, |s| {
+        if s["id"] == test.as_str() {
+            s["spp"] = 4096.into();
+        }
+    });
+    refuse(&["field `level`", "4096"]);
+    // Without the manifest the design alone is checked, and the report says so.
+    std::fs::remove_file(&manifest).unwrap();
+    let ds = Dataset::read_checked(std::slice::from_ref(&log), Some(&design), false).unwrap();
+    assert!(ds.warnings[0].contains("is not here"), "{:?}", ds.warnings);
 }
 
 #[test]
@@ -148,4 +227,30 @@ fn a_subjects_logs_must_be_of_one_mode() {
     for w in ["field `mode`", "\"gui\"", "\"simulated\""] {
         assert!(e.contains(w), "`{w}` missing from {e}");
     }
+}
+
+#[test]
+fn a_log_torn_inside_its_header_is_skipped_only_with_lenient() {
+    let dir = tempfile::tempdir().unwrap();
+    let (log, lines, _) = one_log(dir.path());
+    let torn = dir.path().join("sessions/s02.jsonl");
+    std::fs::write(&torn, &lines[0][..lines[0].len() / 2]).unwrap();
+    let folder = vec![dir.path().join("sessions")];
+    let e = format!(
+        "{:#}",
+        Dataset::read_checked(&folder, None, false).unwrap_err()
+    );
+    assert!(
+        e.contains("s02.jsonl:1: the header line is incomplete") && e.contains("--lenient"),
+        "{e}"
+    );
+    let ds = Dataset::read_checked(&folder, None, true).unwrap();
+    assert!(
+        ds.warnings
+            .iter()
+            .any(|w| w.contains("s02.jsonl:1") && w.contains("skipped")),
+        "{:?}",
+        ds.warnings
+    );
+    assert_eq!(ds.files, vec![log]);
 }

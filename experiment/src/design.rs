@@ -5,7 +5,7 @@
 //! file and the field of every problem.
 
 use crate::keys::{self, RESERVED_KEYS};
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use renderer::paths::lexical_normal;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
@@ -13,6 +13,13 @@ use std::path::{Path, PathBuf};
 
 /// The format tag every design file carries; readers refuse any other.
 pub const DESIGN_FORMAT: &str = "blurlab-design/1";
+
+/// Most main (or practice) trials a design may plan per subject: a trial list is held in
+/// memory, and at one trial per 5 s this is a week of sessions.
+pub const MAX_TRIALS: u64 = 100_000;
+
+/// Most alternatives of an m-alternative task.
+pub const MAX_ALTERNATIVES: u32 = 100;
 
 /// The design file as written on disk.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -227,25 +234,25 @@ pub struct Design {
 impl Design {
     /// Read, parse and validate a design file.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read design file {}", path.display()))?;
+        let text = renderer::utf8::read(path, "design file")?;
         Self::parse(path, &text)
     }
 
     /// Parse and validate design text; `path` names it in messages and anchors `manifest`.
     pub fn parse(path: &Path, text: &str) -> Result<Self> {
-        let value: serde_json::Value = serde_json::from_str(text)
-            .with_context(|| format!("{}: not valid JSON", path.display()))?;
+        let value: serde_json::Value = renderer::json::from_str(text, path, "design file")?;
         let format = value.get("format").and_then(|f| f.as_str());
         if format != Some(DESIGN_FORMAT) {
             bail!(
-                "{}: field `format` is {:?}; this version reads {DESIGN_FORMAT:?}",
+                "{}: field `format` is {}; this version reads {DESIGN_FORMAT:?}",
                 path.display(),
-                value.get("format")
+                value
+                    .get("format")
+                    .map_or("missing".into(), |f| f.to_string())
             );
         }
-        let file: DesignFile = serde_json::from_value(value.clone())
-            .with_context(|| format!("{}: not a valid design", path.display()))?;
+        // Parsed again from the text (not the value) so that errors name the line.
+        let file: DesignFile = renderer::json::from_str(text, path, "design file")?;
         validate(&file).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         let folder = path.parent().unwrap_or(Path::new(""));
         Ok(Self {
@@ -348,14 +355,36 @@ fn validate(f: &DesignFile) -> Result<()> {
     if f.repeats == 0 {
         bail!("field `repeats` is 0; expected at least 1 trial per condition and level");
     }
+    let fac = &f.factors;
+    let trials = [
+        fac.scenes.len(),
+        fac.point_sets.len(),
+        fac.time_filters.len(),
+        f.levels.len(),
+    ]
+    .iter()
+    .fold(u64::from(f.repeats), |n, &k| n.saturating_mul(k as u64));
+    if trials > MAX_TRIALS {
+        bail!(
+            "field `repeats` is {}: with {} conditions x {} levels that plans {trials} main trials \
+             per subject; expected at most {MAX_TRIALS}",
+            f.repeats,
+            fac.scenes.len() * fac.point_sets.len() * fac.time_filters.len(),
+            f.levels.len()
+        );
+    }
+    if f.practice.trials > MAX_TRIALS as u32 {
+        bail!(
+            "field `practice.trials` is {}; expected at most {MAX_TRIALS}",
+            f.practice.trials
+        );
+    }
     if let Task::Alternatives(m) = f.task
-        && m < 2
+        && !(2..=MAX_ALTERNATIVES).contains(&m)
     {
-        bail!("field `task.alternatives` is {m}; expected at least 2 alternatives");
+        bail!("field `task.alternatives` is {m}; expected 2 to {MAX_ALTERNATIVES} alternatives");
     }
-    if f.playback.loops == 0 {
-        bail!("field `playback.loops` is 0; expected at least 1");
-    }
+    playback(&f.playback)?;
     if let ReferenceChoice::Stimuli(m) = &f.reference {
         for scene in &f.factors.scenes {
             if m.get(scene).is_none_or(|id| id.is_empty()) {
@@ -377,6 +406,25 @@ fn validate(f: &DesignFile) -> Result<()> {
         d.validate()?;
     }
     validate_keys(&f.keys)
+}
+
+fn playback(p: &Playback) -> Result<()> {
+    if !(1..=100).contains(&p.loops) {
+        bail!("field `playback.loops` is {}; expected 1 to 100", p.loops);
+    }
+    for (field, ms) in [("fixation_ms", p.fixation_ms), ("gap_ms", p.gap_ms)] {
+        if ms > 60_000 {
+            bail!("field `playback.{field}` is {ms}; expected at most 60000 (a minute)");
+        }
+    }
+    let most = renderer::limits::MAX_IMAGE_SIDE;
+    if p.spacing_px > most {
+        bail!(
+            "field `playback.spacing_px` is {}; expected at most {most} pixels",
+            p.spacing_px
+        );
+    }
+    Ok(())
 }
 
 fn validate_keys(k: &ResponseKeys) -> Result<()> {
@@ -429,8 +477,9 @@ fn levels(field: &str, list: &[u32]) -> Result<()> {
     if list.is_empty() {
         bail!("field `{field}` is empty; expected samples-per-pixel levels");
     }
-    if list.contains(&0) {
-        bail!("field `{field}` holds 0; expected samples per pixel >= 1");
+    let most = renderer::limits::MAX_SPP;
+    if let Some(x) = list.iter().find(|&&x| x == 0 || x > most) {
+        bail!("field `{field}` holds {x}; expected samples per pixel from 1 to {most}");
     }
     let set: BTreeSet<_> = list.iter().collect();
     if set.len() != list.len() {

@@ -146,14 +146,73 @@ pub struct SessionLog {
 impl SessionLog {
     /// Read a log, refusing unknown formats and corrupt lines (except a torn last line).
     pub fn read(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
+        let bytes = std::fs::read(path)
             .with_context(|| format!("cannot read session log {}", path.display()))?;
-        parse_log(path, &text)
+        parse_log(path, &utf8_text(path, bytes)?)
     }
 
     /// The trials that count for analysis.
     pub fn main_trials(&self) -> impl Iterator<Item = &TrialRecord> {
         self.trials.iter().filter(|t| !t.practice)
+    }
+}
+
+/// A log whose header line was cut off by a crash while it was written: the session never
+/// started, so the file holds no answers. `analyze --lenient` skips such a log with a warning
+/// (it finds this error with `downcast_ref`); everything else refuses it.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{}:1: the header line is incomplete (the session was interrupted while writing it); the \
+     log holds no answers",
+    path.display()
+)]
+pub struct TornHeader {
+    pub path: PathBuf,
+}
+
+/// A log's bytes as text. A byte that is not UTF-8 is an error naming its line and column,
+/// except inside a torn last line (a crash can cut a character in two), which is read lossily
+/// and then dropped by [`parse_log`] like any torn last line.
+fn utf8_text(path: &Path, bytes: Vec<u8>) -> Result<String> {
+    let torn_at = match std::str::from_utf8(&bytes) {
+        Ok(_) => None,
+        Err(e) => Some(e.valid_up_to()),
+    };
+    match torn_at {
+        Some(at) if !bytes[at..].contains(&b'\n') => {
+            Ok(String::from_utf8_lossy(&bytes).into_owned())
+        }
+        _ => renderer::utf8::decode(path, bytes, "session log"),
+    }
+}
+
+/// One line, with a type error naming its field (`field `response`: invalid type ...`).
+/// The line is read as a JSON value first and then as the type its `kind` names: serde's
+/// internally tagged enums buffer their content and lose the field path.
+fn parse_line(line: &str) -> Result<LogLine, String> {
+    let value: serde_json::Value = serde_json::from_str(line).map_err(|e| e.to_string())?;
+    fn typed<T: serde::de::DeserializeOwned>(v: serde_json::Value) -> Result<T, String> {
+        serde_path_to_error::deserialize(v).map_err(|e| match e.path().to_string() {
+            p if p == "." => e.inner().to_string(),
+            p => format!("field `{p}`: {}", e.inner()),
+        })
+    }
+    let kind = value
+        .get("kind")
+        .and_then(|k| k.as_str())
+        .map(str::to_owned);
+    let mut fields = value;
+    if let Some(map) = fields.as_object_mut() {
+        map.remove("kind");
+    }
+    match kind.as_deref() {
+        Some("header") => typed(fields).map(LogLine::Header),
+        Some("trial") => typed(fields).map(LogLine::Trial),
+        Some("resume") => typed(fields).map(LogLine::Resume),
+        Some(other) => Err(format!(
+            "field `kind` is {other:?}; expected \"header\", \"trial\" or \"resume\""
+        )),
+        None => Err("no field `kind` (a string); expected a log line object".into()),
     }
 }
 
@@ -171,7 +230,7 @@ pub(crate) fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
         if line.trim().is_empty() {
             continue;
         }
-        let parsed: Result<LogLine, _> = serde_json::from_str(line);
+        let parsed = parse_line(line);
         let is_last = i + 1 == lines.len();
         match parsed {
             Ok(LogLine::Header(h)) if header.is_none() && trials.is_empty() => {
@@ -199,6 +258,12 @@ pub(crate) fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
                 bail!("{}:{lineno}: resume line before the header line", path.display())
             }
             Ok(LogLine::Resume(r)) => resumes.push(r),
+            Err(_) if is_last && torn_tail && header.is_none() => {
+                return Err(TornHeader {
+                    path: path.to_path_buf(),
+                }
+                .into());
+            }
             Err(e) if is_last && torn_tail => warnings.push(format!(
                 "{}:{lineno}: ignoring an incomplete last line (the session was interrupted while writing it): {e}",
                 path.display()
@@ -287,6 +352,41 @@ mod tests {
         t.push_str(&text(&[LogLine::Trial(trial(0))]));
         let err = parse_log(Path::new("x.jsonl"), &t).unwrap_err().to_string();
         assert!(err.contains("x.jsonl:2"), "{err}");
+    }
+
+    #[test]
+    fn a_torn_header_is_its_own_error() {
+        let whole = serde_json::to_string(&LogLine::Header(header())).unwrap();
+        let err = parse_log(Path::new("x.jsonl"), &whole[..40]).unwrap_err();
+        assert!(err.downcast_ref::<TornHeader>().is_some(), "{err}");
+        assert!(
+            err.to_string().starts_with("x.jsonl:1: the header line"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_byte_that_is_not_utf8_is_named_by_line_and_column() {
+        let mut t = text(&[LogLine::Header(header())]).into_bytes();
+        t.extend_from_slice(b"{\"kind\": \xff}\n");
+        let err = utf8_text(Path::new("x.jsonl"), t).unwrap_err().to_string();
+        assert!(
+            err.starts_with("x.jsonl:2: byte 0xff at column 10"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_character_cut_by_a_crash_in_the_last_line_is_a_torn_line() {
+        let mut t = text(&[LogLine::Header(header())]).into_bytes();
+        let whole = serde_json::to_string(&LogLine::Trial(trial(0))).unwrap();
+        t.extend_from_slice(&whole.as_bytes()[..20]);
+        t.extend_from_slice(&"é".as_bytes()[..1]);
+        let log = parse_log(
+            Path::new("x.jsonl"),
+            &utf8_text(Path::new("x.jsonl"), t).unwrap(),
+        );
+        assert_eq!(log.unwrap().warnings.len(), 1);
     }
 
     #[test]

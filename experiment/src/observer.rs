@@ -26,6 +26,14 @@ use std::path::{Path, PathBuf};
 /// The format tag of an observer file.
 pub const OBSERVER_FORMAT: &str = "blurlab-observer/1";
 
+/// Bounds of an observer file's numbers (JSON holds no NaN or infinity, but 1e300 parses):
+/// a slope of 100 per ln spp already goes from chance to certainty within 2% of the
+/// threshold; a spread of 10 scatters thresholds over a factor e^10 = 22026; thresholds may lie
+/// far beyond any rendered level (an observer who never sees the noise), but not past 1e9.
+pub const MAX_SLOPE: f64 = 100.0;
+pub const MAX_SUBJECT_SPREAD: f64 = 10.0;
+pub const MAX_THRESHOLD_SPP: f64 = 1e9;
+
 /// Proportion correct at the threshold.
 pub const TARGET: f64 = 0.75;
 
@@ -104,8 +112,7 @@ impl Observer {
         if path.extension().is_some_and(|e| e == "csv") {
             return Ok(Self::from_prediction(path, PredictedTable::load(path)?));
         }
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read observer file {}", path.display()))?;
+        let text = renderer::utf8::read(path, "observer file")?;
         let mut o = Self::parse(path, &text)?;
         if let Some(p) = &o.file.predicted {
             let csv = path.parent().unwrap_or(Path::new("")).join(p);
@@ -119,8 +126,7 @@ impl Observer {
 
     /// Parse an observer file; a `predicted` file it names is not read (see [`Self::load`]).
     pub fn parse(path: &Path, text: &str) -> Result<Self> {
-        let file: ObserverFile = serde_json::from_str(text)
-            .with_context(|| format!("{}: not a valid observer file", path.display()))?;
+        let file: ObserverFile = renderer::json::from_str(text, path, "observer file")?;
         validate(&file).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         Ok(Self {
             path: path.to_path_buf(),
@@ -298,9 +304,10 @@ fn validate(f: &ObserverFile) -> Result<()> {
         if !f.thresholds.is_empty() {
             bail!("fields `thresholds` and `predicted` are both given; an observer uses one");
         }
-    } else if !(f.slope.is_finite() && f.slope > 0.0) {
+    } else if !(f.slope > 0.0 && f.slope <= MAX_SLOPE) {
         bail!(
-            "field `slope` is {} (or missing); expected a positive number",
+            "field `slope` is {:?} (or missing); expected a number above 0 and at most {MAX_SLOPE} \
+             (per ln spp; {MAX_SLOPE} is already a step)",
             f.slope
         );
     }
@@ -311,9 +318,10 @@ fn validate(f: &ObserverFile) -> Result<()> {
             f.lapse
         );
     }
-    if !(f.subject_spread.is_finite() && f.subject_spread >= 0.0) {
+    if !(0.0..=MAX_SUBJECT_SPREAD).contains(&f.subject_spread) {
         bail!(
-            "field `subject_spread` is {}; expected a number >= 0",
+            "field `subject_spread` is {:?}; expected a number from 0 to {MAX_SUBJECT_SPREAD} (ln \
+             spp: thresholds spread over a factor e^{MAX_SUBJECT_SPREAD})",
             f.subject_spread
         );
     }
@@ -321,9 +329,10 @@ fn validate(f: &ObserverFile) -> Result<()> {
         bail!("field `thresholds` is empty; expected at least one rule (or a `predicted` file)");
     }
     for (i, r) in f.thresholds.iter().enumerate() {
-        if !(r.spp.is_finite() && r.spp > 0.0) {
+        if !(r.spp > 0.0 && r.spp <= MAX_THRESHOLD_SPP) {
             bail!(
-                "field `thresholds[{i}].spp` is {}; expected samples per pixel > 0",
+                "field `thresholds[{i}].spp` is {:?}; expected samples per pixel above 0 and at \
+                 most {MAX_THRESHOLD_SPP:e}",
                 r.spp
             );
         }

@@ -135,8 +135,7 @@ impl Curve {
 
 impl PredictedTable {
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read prediction file {}", path.display()))?;
+        let text = renderer::utf8::read(path, "prediction file")?;
         Self::parse(path, &text)
     }
 
@@ -160,7 +159,10 @@ impl PredictedTable {
             rows.push(row);
         }
         if rows.is_empty() {
-            bail!("{}: no prediction rows", path.display());
+            bail!(
+                "{}: no prediction rows after the header line",
+                path.display()
+            );
         }
         Ok(Self::from_rows(rows))
     }

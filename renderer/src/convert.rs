@@ -44,8 +44,7 @@ fn format_of(path: &Path) -> Result<Format> {
 /// Read a scene or job in any of the formats.
 pub fn read(path: &Path) -> Result<Document> {
     let format = format_of(path)?;
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = crate::utf8::read(path, "file to convert")?;
     Ok(match format {
         Format::SceneText => Document::Scene(block_format::read(&text, path)?.0),
         Format::JobText => Document::Job(line_format::read(&text, path)?.0),

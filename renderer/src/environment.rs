@@ -239,7 +239,7 @@ fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
             ))
         }
         "hdr" => {
-            let img = image::open(path)
+            let img = open_bounded(path)
                 .with_context(|| {
                     format!(
                         "cannot read environment map {} as a Radiance HDR image (the scene's sky)",
@@ -256,6 +256,18 @@ fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
             path.display()
         ),
     }
+}
+
+/// `image::open` with the map's size bounded before any pixel buffer is allocated.
+fn open_bounded(path: &Path) -> Result<image::DynamicImage> {
+    let mut reader = image::ImageReader::open(path)?;
+    let mut limits = image::Limits::default();
+    let side = crate::limits::MAX_MAP_SIDE;
+    limits.max_image_width = Some(side);
+    limits.max_image_height = Some(side);
+    limits.max_alloc = Some(crate::limits::MAX_MAP_TEXELS as u64 * 16);
+    reader.limits(limits);
+    Ok(reader.decode()?)
 }
 
 #[cfg(test)]

@@ -19,6 +19,26 @@ pub const MAX_SPP: u32 = crate::sampling::pointset::MAX_POINTS as u32;
 /// A scene in feet or metres with detail near one unit stays far inside it.
 pub const MAX_MAGNITUDE: f64 = 1e7;
 
+/// Largest side of an image the suite reads (environment maps, EXR frames): real sky captures
+/// are at most 16384 x 8192.
+pub const MAX_MAP_SIDE: u32 = 32768;
+
+/// Most pixels of an image the suite reads: 2^28 texels (16384 x 16384), 3 GB as RGB f32.
+pub const MAX_MAP_TEXELS: usize = 1 << 28;
+
+/// An image of `w` x `h` pixels that the suite may read (at least one pixel, within
+/// [`MAX_MAP_SIDE`] and [`MAX_MAP_TEXELS`]).
+pub fn check_texels(w: usize, h: usize) -> anyhow::Result<()> {
+    let side = MAX_MAP_SIDE as usize;
+    if w == 0 || h == 0 || w > side || h > side || w * h > MAX_MAP_TEXELS {
+        anyhow::bail!(
+            "expected 1 to {side} pixels a side and at most {MAX_MAP_TEXELS} in all (a corrupt \
+             header?)"
+        );
+    }
+    Ok(())
+}
+
 /// `v` as a side of an image: 1 to [`MAX_IMAGE_SIDE`] pixels.
 pub fn check_side(v: u32) -> Result<u32, String> {
     if (1..=MAX_IMAGE_SIDE).contains(&v) {

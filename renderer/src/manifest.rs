@@ -1,7 +1,7 @@
 //! The stimulus manifest (`stimuli/<job>/manifest.json`): the one file through which the
 //! experiment and the analysis learn what was rendered. Format `blurlab-manifest/1`.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -103,10 +103,8 @@ impl Manifest {
     /// Read and check a manifest; `path` may be the file or the folder holding it.
     pub fn load(path: &Path) -> Result<Self> {
         let file = manifest_file(path);
-        let text = std::fs::read_to_string(&file)
-            .with_context(|| format!("cannot read stimulus manifest {}", file.display()))?;
-        let m: Manifest = serde_json::from_str(&text)
-            .with_context(|| format!("{}: not a valid stimulus manifest", file.display()))?;
+        let text = crate::utf8::read(&file, "stimulus manifest")?;
+        let m: Manifest = crate::json::from_str(&text, &file, "stimulus manifest")?;
         if m.format != MANIFEST_FORMAT {
             bail!(
                 "{}: field `format` is {:?}; this version reads {:?}",

@@ -441,8 +441,8 @@ fn job_checks_after_reading_name_the_line() {
         ),
         (
             with("scene s.json\n").replace("stratifiedmc", "jittered"),
-            "j.job:5: `point sets` (line 5 of 7) (field `point_sets[1]`) with time filter \
-             \"truncated_box\" at 1 spp: unknown point set \"jittered\"",
+            "j.job:5: `point sets` (line 5 of 7) (field `point_sets[1]`) unknown point set \
+             \"jittered\"",
         ),
         (
             with("scene s.json\n").replace(" 64 ", " 63 "),

@@ -2,7 +2,6 @@
 
 use super::TriangleMesh;
 use glam::Vec3A;
-use std::io::BufReader;
 use std::path::{Path, PathBuf};
 
 #[derive(Debug, thiserror::Error)]
@@ -12,10 +11,11 @@ pub enum ObjError {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("OBJ model {path} is not valid: {source}")]
+    // `error`, not `source`: tobj's words are the message, not a cause to print again.
+    #[error("OBJ model {path} is not valid: {error}")]
     Parse {
         path: PathBuf,
-        source: tobj::LoadError,
+        error: tobj::LoadError,
     },
     #[error("OBJ model {path}: {what}")]
     Content { path: PathBuf, what: String },
@@ -34,9 +34,18 @@ impl TriangleMesh {
         if path.is_dir() {
             return Err(content("is a folder; expected an OBJ file".into()));
         }
-        let file = std::fs::File::open(path).map_err(|source| ObjError::Io {
+        let bytes = std::fs::read(path).map_err(|source| ObjError::Io {
             path: path.to_owned(),
             source,
+        })?;
+        let text = std::str::from_utf8(&bytes).map_err(|e| {
+            let at = e.valid_up_to();
+            let (line, column) = crate::utf8::locate(&bytes, at);
+            content(format!(
+                "line {line}: byte 0x{:02x} at column {column} is not UTF-8; expected an OBJ \
+                 model in UTF-8 text",
+                bytes[at]
+            ))
         })?;
         let options = tobj::LoadOptions {
             triangulate: true,
@@ -45,12 +54,16 @@ impl TriangleMesh {
             ignore_lines: true,
         };
         // Materials are the scene's business: never open the model's .mtl files.
-        let (models, _) = tobj::load_obj_buf(&mut BufReader::new(file), &options, |_| {
+        let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| {
             Err(tobj::LoadError::OpenFileFailed)
         })
-        .map_err(|source| ObjError::Parse {
-            path: path.to_owned(),
-            source,
+        .map_err(|source| match bad_line(text, &source) {
+            // tobj names no line: find the first line of the kind it could not read.
+            Some(line) => content(format!("line {line}: {source}")),
+            None => ObjError::Parse {
+                path: path.to_owned(),
+                error: source,
+            },
         })?;
         let with_normals = models
             .iter()
@@ -77,7 +90,7 @@ impl TriangleMesh {
         }
         if indices.is_empty() {
             return Err(content(
-                "has no faces (expected at least one triangle)".into(),
+                "has no faces (no `f` lines); expected at least one triangle".into(),
             ));
         }
         let n = positions.len() as u32;
@@ -89,6 +102,89 @@ impl TriangleMesh {
         let normals = (with_normals && normals.iter().all(|n| n.is_finite())).then_some(normals);
         Ok(TriangleMesh::new(positions, normals, indices))
     }
+}
+
+/// The first line (from 1) of `text` of the kind tobj's `err` is about that does not read:
+/// a vertex, normal or texture coordinate without three (two) numbers, or a face with an
+/// index that is not a number or points outside the file's lists.
+fn bad_line(text: &str, err: &tobj::LoadError) -> Option<usize> {
+    use tobj::LoadError::*;
+    let lines = || {
+        text.lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.split_whitespace()))
+    };
+    let numbers = |key: &str, n: usize| {
+        lines().find_map(|(no, mut w)| {
+            (w.next() == Some(key)).then_some(())?;
+            let ok = w.take(n).filter(|x| x.parse::<f32>().is_ok()).count() == n;
+            (!ok).then_some(no)
+        })
+    };
+    match err {
+        // `v x y z [w]` or `v x y z r g b`: three, four or six numbers, w not 0.
+        PositionParseError | ColorParseError | ScalingByZeroError => {
+            lines().find_map(|(no, mut w)| {
+                (w.next() == Some("v")).then_some(())?;
+                let words: Vec<&str> = w.collect();
+                let n: Vec<f32> = words.iter().filter_map(|x| x.parse().ok()).collect();
+                let ok = n.len() == words.len()
+                    && [3, 4, 6].contains(&n.len())
+                    && (n.len() != 4 || n[3] != 0.0);
+                (!ok).then_some(no)
+            })
+        }
+        NormalParseError => numbers("vn", 3),
+        TexcoordParseError => numbers("vt", 1),
+        FaceParseError
+        | FaceVertexOutOfBounds
+        | FaceTexCoordOutOfBounds
+        | FaceNormalOutOfBounds
+        | InvalidPolygon => bad_face(text),
+        _ => None,
+    }
+}
+
+/// The first face (or line) element with too few corners, a corner of more than three
+/// indices, or an index that is not a number or points outside the lists read before it.
+fn bad_face(text: &str) -> Option<usize> {
+    let mut seen = [0usize; 3];
+    for (i, line) in text.lines().enumerate() {
+        let mut w = line.split_whitespace();
+        let min_corners = match w.next() {
+            Some("v") => {
+                seen[0] += 1;
+                continue;
+            }
+            Some("vt") => {
+                seen[1] += 1;
+                continue;
+            }
+            Some("vn") => {
+                seen[2] += 1;
+                continue;
+            }
+            Some("f") => 3,
+            Some("l") => 1,
+            _ => continue,
+        };
+        let bad_index = |(k, idx): (usize, &str)| {
+            if idx.is_empty() && k > 0 {
+                return false;
+            }
+            match idx.parse::<i64>() {
+                Ok(n) if n != 0 => n.unsigned_abs() as usize > seen[k],
+                _ => true,
+            }
+        };
+        let bad_corner =
+            |c: &&str| c.split('/').count() > 3 || c.split('/').enumerate().any(bad_index);
+        let corners: Vec<&str> = w.collect();
+        if corners.len() < min_corners || corners.iter().any(bad_corner) {
+            return Some(i + 1);
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -124,6 +220,16 @@ mod tests {
         let bad = write("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
         let e = TriangleMesh::from_obj(bad.path()).unwrap_err().to_string();
         assert!(e.contains(&bad.path().display().to_string()), "{e}");
+        assert!(
+            e.contains(": line 4: face vertex index out of bounds"),
+            "{e}"
+        );
+        let bad = write("v 0 0 0\nv 1 0 x\nv 0 1 0\nf 1 2 3\n");
+        let e = TriangleMesh::from_obj(bad.path()).unwrap_err().to_string();
+        assert!(e.contains(": line 2: position parse error"), "{e}");
+        let bad = write("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 -9 3\n");
+        let e = TriangleMesh::from_obj(bad.path()).unwrap_err().to_string();
+        assert!(e.contains(": line 4: "), "{e}");
         let empty = write("v 0 0 0\n");
         let e = TriangleMesh::from_obj(empty.path())
             .unwrap_err()

@@ -29,8 +29,17 @@ pub fn exr_bytes(pixels: &[[f32; 3]], width: u32, height: u32) -> Result<Vec<u8>
     Ok(out.into_inner())
 }
 
-/// Read an RGB(A) EXR into row-major RGB with its size.
+/// Read an RGB(A) EXR into row-major RGB with its size. The header's size is checked first
+/// (at most [`crate::limits::MAX_MAP_TEXELS`] pixels): a corrupt or hostile header would
+/// otherwise make the pixel buffer's allocation abort the process.
 pub fn read_exr(path: &Path) -> Result<(Vec<[f32; 3]>, u32, u32)> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .with_context(|| format!("cannot read EXR frame {}", path.display()))?;
+    for h in &meta.headers {
+        let (w, ht) = (h.layer_size.width(), h.layer_size.height());
+        crate::limits::check_texels(w, ht)
+            .with_context(|| format!("EXR frame {} is {w} x {ht} pixels", path.display()))?;
+    }
     let image = exr::prelude::read_first_rgba_layer_from_file(
         path,
         |res, _| (vec![[0f32; 3]; res.width() * res.height()], res.width()),

@@ -22,9 +22,9 @@ pub use runner::{DryRun, Finalize, RunOptions, RunReport, dry_run_with_sources, 
 pub use scene_source::{dry_run, run};
 pub use shard::Shard;
 
-use crate::sampling::{FrameSampler, SamplingConfig, SamplingOptions};
+use crate::sampling::{FrameSampler, SamplingConfig, SamplingOptions, TimeFilter, pointset};
 use crate::text::SourceMap;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -185,15 +185,12 @@ impl JobFile {
     /// Read a job file, JSON or (by the extension `.job`) the thesis's seven-line text, with
     /// the lines of a text job (for messages).
     pub fn read(path: &Path) -> Result<(Self, Option<SourceMap>)> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read job file {}", path.display()))?;
+        let text = crate::utf8::read(path, "job file")?;
         if line_format::is_line_job(path) {
             let (file, map) = line_format::read(&text, path)?;
             return Ok((file, Some(map)));
         }
-        let file = serde_json::from_str(&text)
-            .with_context(|| format!("{}: not a valid job file", path.display()))?;
-        Ok((file, None))
+        Ok((crate::json::from_str(&text, path, "job file")?, None))
     }
 }
 
@@ -269,16 +266,22 @@ impl Job {
             }
             scenes.push(JobScene { name, path: p });
         }
+        let most = crate::limits::MAX_SPP;
         check_list("levels", &f.levels, |&l| {
-            (l == 0).then(|| "is 0; expected samples per pixel >= 1".to_string())
+            (l == 0 || l > most)
+                .then(|| format!("is {l}; expected samples per pixel from 1 to {most}"))
         })
         .map_err(|(field, e)| at(&field, e))?;
-        for (field, list) in [
-            ("point_sets", &f.point_sets),
-            ("time_filters", &f.time_filters),
-        ] {
-            check_list(field, list, |n| check_name(n).err()).map_err(|(fl, e)| at(&fl, e))?;
-        }
+        // Names first, each against its own list, so that a misspelt time filter is reported
+        // as such (and not as a failure of the first point set's stimuli).
+        check_list("point_sets", &f.point_sets, |n| {
+            (check_name(n).err()).or_else(|| pointset::by_name(n).err().map(|e| e.to_string()))
+        })
+        .map_err(|(fl, e)| at(&fl, e))?;
+        check_list("time_filters", &f.time_filters, |n| {
+            (check_name(n).err()).or_else(|| TimeFilter::by_name(n).err().map(|e| e.to_string()))
+        })
+        .map_err(|(fl, e)| at(&fl, e))?;
         let reference = match &f.reference {
             ReferenceSpec::HighestLevel => Reference::HighestLevel,
             ReferenceSpec::Independent(r) => {

@@ -58,13 +58,11 @@ pub fn load_sources(job: &Job) -> Result<Vec<Box<dyn FrameSource>>> {
 
 /// The frame source of one scene file.
 pub fn load_source(path: &Path, overrides: &Overrides) -> Result<Box<dyn FrameSource>> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read scene {}", path.display()))?;
+    let text = crate::utf8::read(path, "scene file")?;
     if crate::scene::block_format::is_block_scene(path) {
         return scene_source(Scene::from_block_text(&text, path)?, overrides);
     }
-    let head: FormatOnly = serde_json::from_str(&text)
-        .with_context(|| format!("{}: not a JSON scene file", path.display()))?;
+    let head: FormatOnly = crate::json::from_str(&text, path, "JSON scene file")?;
     match head.format.as_deref() {
         Some(SYNTHETIC_FORMAT) => synthetic(&text, path, overrides),
         Some(SCENE_FORMAT) => scene_source(Scene::from_json(&text, path)?, overrides),

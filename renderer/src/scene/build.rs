@@ -16,7 +16,7 @@ use crate::material::{Fresnel, Material};
 use crate::motion::{Motion, MotionLayer};
 use crate::sampling::FrameSampler;
 use crate::text::SourceMap;
-use anyhow::{Result, anyhow};
+use anyhow::Result;
 use glam::{Quat, Vec2, Vec3, Vec3A};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -24,27 +24,10 @@ use std::sync::Arc;
 
 use crate::limits::MAX_IMAGE_SIDE as MAX_SIZE;
 
-/// Parse scene text; a syntax or type error names the field path where it happened.
-/// A UTF-8 byte-order mark (some Windows editors write one) is skipped; anything after the
-/// scene's closing brace is refused, as in job files.
+/// Parse scene text; a syntax or type error names the field path where it happened
+/// ([`crate::json::from_str`]: a byte-order mark is skipped, trailing text refused).
 pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let de = &mut serde_json::Deserializer::from_str(text);
-    let file = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
-        let field = e.path().to_string();
-        if field == "." || field.is_empty() {
-            anyhow!("{}: {}", path.display(), e.inner())
-        } else {
-            anyhow!("{}: field `{field}`: {}", path.display(), e.inner())
-        }
-    })?;
-    de.end().map_err(|e| {
-        anyhow!(
-            "{}: {e}: expected nothing after the scene's closing `}}`",
-            path.display()
-        )
-    })?;
-    Ok(file)
+    crate::json::from_str(text, path, "scene file")
 }
 
 /// Errors of one file.

@@ -57,10 +57,11 @@ fn number(v: &Value, field: &str, time: f64) -> Result<(), (String, String)> {
         return Err((
             field.to_string(),
             format!(
-                "holds {value:e}, which over the animation's times (|t| up to {time}) moves \
+                "holds {value:e}, which over the animation's times (|t| up to {}) moves \
                  {:e} units; expected velocity x time of at most {MAX_MAGNITUDE:e} \
                  (docs/limits.md)",
-                x * time
+                time as f32,
+                (x * time) as f32
             ),
         ));
     }

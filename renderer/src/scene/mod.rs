@@ -20,7 +20,7 @@ use crate::light::Light;
 use crate::material::Material;
 use crate::motion::MotionLayer;
 use crate::sampling::SamplingConfig;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use glam::{Quat, Vec3};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -70,8 +70,7 @@ impl Scene {
     /// Read and check a scene file, JSON or (by the extension `.scene`) the thesis's block
     /// text; models and maps resolve against its folder.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read scene {}", path.display()))?;
+        let text = crate::utf8::read(path, "scene file")?;
         if block_format::is_block_scene(path) {
             Self::from_block_text(&text, path)
         } else {

@@ -253,11 +253,24 @@ impl<'a> Entries<'a> {
                 self.path,
                 self.context_line,
                 format!(
-                    "{} has no key `{key}`; expected a line `{key} {expected}`",
-                    self.context
+                    "{} has no key `{key}`; expected a line `{key} {expected}`{}",
+                    self.context,
+                    self.unread_hint(key)
                 ),
             )
         })
+    }
+
+    /// The keys not read so far that look like `key` misspelt, for a missing-key message.
+    fn unread_hint(&self, key: &str) -> String {
+        let unread: Vec<String> = (self.entries.iter().zip(&self.used))
+            .filter(|(e, used)| !**used && edit_distance(&e.key, key) <= 2 + key.len() / 6)
+            .map(|(e, _)| format!("`{}` (line {})", e.key, e.line))
+            .collect();
+        match unread.len() {
+            0 => String::new(),
+            _ => format!(" (a misspelling? this block has {})", unread.join(", ")),
+        }
     }
 
     /// An error about the block as a whole.
@@ -299,6 +312,24 @@ impl<'a> Entries<'a> {
 }
 
 /// ` (`a b c`)` for a non-empty list of values.
+/// Levenshtein distance between two keys (insertions, deletions, substitutions).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let above = row[j + 1];
+            row[j + 1] = (diagonal + usize::from(ca != cb))
+                .min(above + 1)
+                .min(row[j] + 1);
+            diagonal = above;
+        }
+    }
+    row[b.len()]
+}
+
 fn shown(values: &[String]) -> String {
     if values.is_empty() {
         String::new()
