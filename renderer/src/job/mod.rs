@@ -191,7 +191,22 @@ impl JobFile {
             let (file, map) = line_format::read(&text, path)?;
             return Ok((file, Some(map)));
         }
-        let file = serde_json::from_str(&text)
+        // The error names the field path, e.g. `overrides.sampling.randomization`.
+        let de = &mut serde_json::Deserializer::from_str(&text);
+        let file: Self = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
+            let field = e.path().to_string();
+            let at = if field == "." || field.is_empty() {
+                String::new()
+            } else {
+                format!("field `{field}`: ")
+            };
+            anyhow::anyhow!(
+                "{}: not a valid job file: {at}{}",
+                path.display(),
+                e.inner()
+            )
+        })?;
+        de.end()
             .with_context(|| format!("{}: not a valid job file", path.display()))?;
         Ok((file, None))
     }
@@ -558,6 +573,24 @@ mod tests {
         assert!(e.contains("`point_sets[0]`") && e.contains("27 spp"), "{e}");
         let e = error_of(&text.replace("\"sampling\": {", "\"sampling\": {\"sigma\": 1, "));
         assert!(e.contains("sigma"), "{e}");
+        // The per-pixel randomization is an override like the others; unknown ones are refused
+        // with the file and the field.
+        let text = job_text().replace(
+            "\"seed\": 7",
+            "\"seed\": 7, \"overrides\": {\"sampling\": {\"randomization\": \"scramble\"}}",
+        );
+        let (_d, p) = setup(&text);
+        for s in expand(&Job::load(&p).unwrap()) {
+            assert_eq!(
+                s.sampling.randomization(),
+                crate::sampling::Randomization::Scramble
+            );
+        }
+        let e = error_of(&text.replace("\"scramble\"", "\"owen\""));
+        assert!(
+            e.contains("job.json") && e.contains("randomization") && e.contains("scramble"),
+            "{e}"
+        );
     }
 
     #[test]
