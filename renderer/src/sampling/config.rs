@@ -281,6 +281,7 @@ mod tests {
             time_filter: "triangle".into(),
             spatial_sigma: Some(0.8),
             shift_scope: Some(Scope::Frame),
+            randomization: Some(Randomization::Scramble),
             ..Default::default()
         };
         let job = SamplingConfig {
@@ -298,5 +299,13 @@ mod tests {
         assert_eq!(c.shift_scope(), Scope::Sequence, "job wins where set");
         assert_eq!(c.spatial_sigma(), 0.8, "scene where the job is silent");
         assert_eq!(c.density(), Density::Joint, "default where both are");
+        // A scene's randomization reaches the stimuli of a job that leaves it unset (how a
+        // study puts shift and scramble in one job: docs/sampling.md), and a job's wins.
+        assert_eq!(c.randomization(), Randomization::Scramble);
+        let shift = SamplingConfig {
+            randomization: Some(Randomization::Shift),
+            ..job
+        };
+        assert_eq!(shift.over(&scene).randomization(), Randomization::Shift);
     }
 }
