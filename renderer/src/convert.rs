@@ -9,7 +9,7 @@
 use crate::job::{JobFile, line_format};
 use crate::paths::{lexical_normal as normal, relative};
 use crate::scene::{SceneFile, block_format};
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use serde::Serialize;
 use std::path::Path;
 
@@ -53,16 +53,14 @@ pub fn read(path: &Path) -> Result<Document> {
             struct Head {
                 format: Option<String>,
             }
-            let head: Head = serde_json::from_str(&text)
-                .with_context(|| format!("{}: not a JSON object", path.display()))?;
+            let head: Head = crate::json::from_str(&text, path, "JSON scene or job file")?;
             match head.format.as_deref() {
                 Some(crate::scene::SCENE_FORMAT) => {
                     Document::Scene(crate::scene::build::parse(&text, path)?)
                 }
-                Some(crate::job::JOB_FORMAT) => Document::Job(
-                    serde_json::from_str(&text)
-                        .with_context(|| format!("{}: not a valid job file", path.display()))?,
-                ),
+                Some(crate::job::JOB_FORMAT) => {
+                    Document::Job(crate::json::from_str(&text, path, "job file")?)
+                }
                 other => bail!(
                     "{}: field `format` {}; expected {:?} or {:?}",
                     path.display(),

@@ -187,6 +187,11 @@ fn key_errors_name_the_line_the_key_and_what_was_expected() {
         ),
         (
             "maxdepth 4",
+            "maxdepth 4\nrandomization owen",
+            "f.scene:38: key `randomization` expects one of shift, scramble; found `owen`",
+        ),
+        (
+            "maxdepth 4",
             "maxdepth 4\nspatialfilter tent",
             "f.scene:38: key `spatialfilter` expects one of gaussian, box; found `tent`",
         ),
@@ -373,8 +378,8 @@ fn job_errors_name_the_line_and_key() {
             with("size 64\n"),
             "j.job:8: unknown key `size` in the job's extension lines (after the seven); \
              expected one of: density, exr, firstframe, frames, framesperunit, height, \
-             pointsetscope, reference, referencepointset, referencetimefilter, scene, seed, \
-             shiftscope, spatialfilter, spatialsigma, width",
+             pointsetscope, randomization, reference, referencepointset, referencetimefilter, \
+             scene, seed, shiftscope, spatialfilter, spatialsigma, width",
         ),
         (
             with("scene a.scene b.scene\n"),
@@ -398,6 +403,10 @@ fn job_errors_name_the_line_and_key() {
              line, but `referencepointset` and `referencetimefilter` apply only to an \
              independent reference (`reference <spp>`); the highest level has each condition's \
              own point set and time filter",
+        ),
+        (
+            with("randomization owen\n"),
+            "j.job:8: key `randomization` expects one of shift, scramble; found `owen`",
         ),
         (
             with("shiftscope pixel\n"),

@@ -13,7 +13,9 @@ use renderer::job::{
 };
 use renderer::manifest::Manifest;
 use renderer::render::render_frame;
-use renderer::sampling::{Density, SamplingConfig, SamplingOptions, Scope, SpatialFilter};
+use renderer::sampling::{
+    Density, Randomization, SamplingConfig, SamplingOptions, Scope, SpatialFilter,
+};
 use renderer::scene::block_format;
 use renderer::scene::file::{
     CameraDesc, EnvironmentDesc, FresnelDesc, GroupDesc, InstanceDesc, LightDesc, LightKind,
@@ -608,15 +610,27 @@ fn options() -> impl Strategy<Value = SamplingOptions> {
         ]),
         scope(),
         scope(),
+        prop::option::of(prop_oneof![
+            Just(Randomization::Shift),
+            Just(Randomization::Scramble)
+        ]),
     )
         .prop_map(
-            |(spatial_filter, spatial_sigma, density, point_set_scope, shift_scope)| {
+            |(
+                spatial_filter,
+                spatial_sigma,
+                density,
+                point_set_scope,
+                shift_scope,
+                randomization,
+            )| {
                 SamplingOptions {
                     spatial_filter,
                     spatial_sigma,
                     density,
                     point_set_scope,
                     shift_scope,
+                    randomization,
                 }
             },
         )

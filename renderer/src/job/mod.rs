@@ -561,6 +561,24 @@ mod tests {
         assert!(e.contains("`point_sets[0]`") && e.contains("27 spp"), "{e}");
         let e = error_of(&text.replace("\"sampling\": {", "\"sampling\": {\"sigma\": 1, "));
         assert!(e.contains("sigma"), "{e}");
+        // The per-pixel randomization is an override like the others; unknown ones are refused
+        // with the file and the field.
+        let text = job_text().replace(
+            "\"seed\": 7",
+            "\"seed\": 7, \"overrides\": {\"sampling\": {\"randomization\": \"scramble\"}}",
+        );
+        let (_d, p) = setup(&text);
+        for s in expand(&Job::load(&p).unwrap()) {
+            assert_eq!(
+                s.sampling.randomization(),
+                crate::sampling::Randomization::Scramble
+            );
+        }
+        let e = error_of(&text.replace("\"scramble\"", "\"owen\""));
+        assert!(
+            e.contains("job.json") && e.contains("randomization") && e.contains("scramble"),
+            "{e}"
+        );
     }
 
     #[test]

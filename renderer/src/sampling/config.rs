@@ -40,6 +40,10 @@ pub struct SamplingConfig {
     /// How often each pixel's shift is redrawn: `sequence` (default) or `frame`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shift_scope: Option<Scope>,
+    /// How each pixel gets its own copy of the set: `shift` (default, the thesis's toroidal
+    /// shift) or `scramble` (a per-pixel randomization that keeps the set's strata).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub randomization: Option<Randomization>,
 }
 
 /// The optional settings of [`SamplingConfig`] on their own: what a job's
@@ -59,6 +63,31 @@ pub struct SamplingOptions {
     pub point_set_scope: Option<Scope>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shift_scope: Option<Scope>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub randomization: Option<Randomization>,
+}
+
+/// How a pixel turns the frame's point set into its own samples (docs/sampling.md,
+/// "Per-pixel randomization").
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Randomization {
+    /// The thesis's Cranley-Patterson rotation (Figure 14): add the pixel's offset, wrap.
+    Shift,
+    /// A per-pixel scramble that keeps the set's strata: Owen scrambling for Sobol, Hammersley
+    /// and Halton, a fresh jitter per stratum for stratified, fresh points for random; Poisson
+    /// has no strata and keeps the shift ([`crate::sampling::scramble`]).
+    Scramble,
+}
+
+impl Randomization {
+    /// The name used in scene, job and text files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Randomization::Shift => "shift",
+            Randomization::Scramble => "scramble",
+        }
+    }
 }
 
 /// The reconstruction filter over the pixel, realised by warping (filter importance sampling,
@@ -115,6 +144,7 @@ impl Default for SamplingConfig {
             density: None,
             point_set_scope: None,
             shift_scope: None,
+            randomization: None,
         }
     }
 }
@@ -141,6 +171,7 @@ impl SamplingConfig {
             density: self.density,
             point_set_scope: self.point_set_scope,
             shift_scope: self.shift_scope,
+            randomization: self.randomization,
         }
     }
 
@@ -151,6 +182,7 @@ impl SamplingConfig {
         self.density = o.density.or(self.density);
         self.point_set_scope = o.point_set_scope.or(self.point_set_scope);
         self.shift_scope = o.shift_scope.or(self.shift_scope);
+        self.randomization = o.randomization.or(self.randomization);
         self
     }
 
@@ -178,6 +210,11 @@ impl SamplingConfig {
     pub fn shift_scope(&self) -> Scope {
         self.shift_scope.unwrap_or(Scope::Sequence)
     }
+
+    /// How each pixel randomizes the set (default the thesis's shift).
+    pub fn randomization(&self) -> Randomization {
+        self.randomization.unwrap_or(Randomization::Shift)
+    }
 }
 
 impl SamplingOptions {
@@ -201,6 +238,7 @@ mod tests {
         assert_eq!(c.density(), Density::Joint);
         assert_eq!(c.point_set_scope(), Scope::Frame);
         assert_eq!(c.shift_scope(), Scope::Sequence);
+        assert_eq!(c.randomization(), Randomization::Shift);
         // Unset options are not written, so stamps of older configs stay byte-identical.
         let text = serde_json::to_string(&c).unwrap();
         assert_eq!(
@@ -213,10 +251,11 @@ mod tests {
     fn every_setting_round_trips_and_typos_are_refused() {
         let text = r#"{"point_set": "poisson", "spp": 512, "time_filter": "triangle",
             "spatial_filter": "box", "spatial_sigma": 0.7, "density": {"temporal": 8},
-            "point_set_scope": "sequence", "shift_scope": "frame"}"#;
+            "point_set_scope": "sequence", "shift_scope": "frame", "randomization": "scramble"}"#;
         let c: SamplingConfig = serde_json::from_str(text).unwrap();
         assert_eq!(c.density(), Density::Temporal(8));
         assert_eq!(c.shift_scope(), Scope::Frame);
+        assert_eq!(c.randomization(), Randomization::Scramble);
         let back: SamplingConfig =
             serde_json::from_str(&serde_json::to_string(&c).unwrap()).unwrap();
         assert_eq!(back, c);
@@ -228,6 +267,10 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("gaussian"), "{e}");
+        let e = serde_json::from_str::<SamplingConfig>(r#"{"randomization": "owen"}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("shift") && e.contains("scramble"), "{e}");
     }
 
     #[test]
@@ -238,6 +281,7 @@ mod tests {
             time_filter: "triangle".into(),
             spatial_sigma: Some(0.8),
             shift_scope: Some(Scope::Frame),
+            randomization: Some(Randomization::Scramble),
             ..Default::default()
         };
         let job = SamplingConfig {
@@ -255,5 +299,13 @@ mod tests {
         assert_eq!(c.shift_scope(), Scope::Sequence, "job wins where set");
         assert_eq!(c.spatial_sigma(), 0.8, "scene where the job is silent");
         assert_eq!(c.density(), Density::Joint, "default where both are");
+        // A scene's randomization reaches the stimuli of a job that leaves it unset (how a
+        // study puts shift and scramble in one job: docs/sampling.md), and a job's wins.
+        assert_eq!(c.randomization(), Randomization::Scramble);
+        let shift = SamplingConfig {
+            randomization: Some(Randomization::Shift),
+            ..job
+        };
+        assert_eq!(shift.over(&scene).randomization(), Randomization::Shift);
     }
 }

@@ -15,11 +15,12 @@ pub mod discrepancy;
 pub mod ks;
 pub mod pointset;
 pub mod sampler;
+pub mod scramble;
 pub mod shift;
 pub mod spacing;
 pub mod time_filter;
 pub mod warp;
 
-pub use config::{Density, SamplingConfig, SamplingOptions, Scope, SpatialFilter};
+pub use config::{Density, Randomization, SamplingConfig, SamplingOptions, Scope, SpatialFilter};
 pub use sampler::{FrameSampler, PixelSample, PixelSampler};
 pub use time_filter::TimeFilter;

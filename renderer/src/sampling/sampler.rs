@@ -1,8 +1,9 @@
 //! The renderer's view of sampling: [`FrameSampler`] is built once per frame and answers
 //! "sample i of pixel (x, y)" with a sub-pixel offset and a shutter time, after the pixel's
-//! shift and both warps (thesis Figure 14, then Figure 16).
+//! shift (or scramble) and both warps (thesis Figure 14, then Figure 16).
 
-use super::config::{SamplingConfig, Scope};
+use super::config::{Density, Randomization, SamplingConfig, Scope};
+use super::pointset::PointSet;
 use super::time_filter::TimeFilter;
 use super::warp::SpatialWarp;
 use super::{density, pointset, shift};
@@ -12,6 +13,7 @@ use anyhow::{Result, bail};
 /// Hash tags separating the random streams of a stimulus.
 const POINTS_TAG: u64 = 0x5e7;
 const SHIFT_TAG: u64 = 0x5817;
+const SCRAMBLE_TAG: u64 = 0x5c2a;
 
 /// The largest f32 below 1, where f64 coordinates that round up to 1 go.
 const BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
@@ -32,15 +34,43 @@ pub struct PixelSample {
 pub struct FrameSampler {
     points: Vec<[f32; 3]>,
     shift_key: u64,
+    /// Set under `randomization: scramble` for sets that have a per-pixel scramble.
+    scramble: Option<Scrambled>,
     spatial: SpatialWarp,
     time: TimeFilter,
 }
 
-/// One pixel's view of a [`FrameSampler`]: the shift is computed once for all its samples.
+/// A frame whose pixels each scramble the set on their own (`crate::sampling::scramble`).
+#[derive(Clone)]
+struct Scrambled {
+    set: &'static dyn PointSet,
+    /// Points of the joint set, or of the (u, v) set of a density split (0 for joint).
+    joint: usize,
+    /// (spatial, temporal) counts of a density split.
+    product: Option<(usize, usize)>,
+    /// The frame's points key: with the shift key it seeds each pixel's scramble, so the
+    /// pixel's points change when either scope says so.
+    points_key: u64,
+}
+
+impl std::fmt::Debug for Scrambled {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Scrambled")
+            .field("set", &self.set.name())
+            .field("joint", &self.joint)
+            .field("product", &self.product)
+            .finish()
+    }
+}
+
+/// One pixel's view of a [`FrameSampler`]: the shift (or the scramble's keys) is computed once
+/// for all its samples.
 #[derive(Clone, Copy, Debug)]
 pub struct PixelSampler<'a> {
     frame: &'a FrameSampler,
     shift: [f32; 3],
+    /// The pixel's scramble keys: the joint set's (or the spatial set's) and the temporal set's.
+    keys: [u64; 2],
 }
 
 /// The key of a random stream that lasts a whole stimulus or one frame.
@@ -65,12 +95,28 @@ impl FrameSampler {
         let time = TimeFilter::by_name(&config.time_filter)?;
         let set = pointset::by_name(&config.point_set)?;
         let key = scoped(seed, POINTS_TAG, config.point_set_scope(), frame);
-        let points = density::points(set, config.spp as usize, config.density(), key)?
+        let spp = config.spp as usize;
+        let points = density::points(set, spp, config.density(), key)?
             .into_iter()
             .map(|p| p.map(|c| (c as f32).min(BELOW_ONE)))
             .collect();
+        let scramble =
+            (config.randomization() == Randomization::Scramble && set.scrambles()).then(|| {
+                Scrambled {
+                    set,
+                    joint: spp,
+                    // density::points checked the split above.
+                    product: match config.density() {
+                        Density::Joint => None,
+                        Density::Temporal(k) => Some((spp / k as usize, k as usize)),
+                        Density::Spatial(k) => Some((k as usize, spp / k as usize)),
+                    },
+                    points_key: key,
+                }
+            });
         Ok(Self {
             points,
+            scramble,
             shift_key: scoped(seed, SHIFT_TAG, config.shift_scope(), frame),
             spatial: SpatialWarp::new(config.spatial_filter(), sigma),
             time,
@@ -87,13 +133,36 @@ impl FrameSampler {
         &self.points
     }
 
-    /// Pixel (x, y): hash its shift once, then ask it for each sample (cheaper than
-    /// [`FrameSampler::sample`] per sample).
+    /// Whether the pixels scramble the set (`randomization: scramble` on a set that has a
+    /// scramble) rather than shift it.
+    pub fn scrambles(&self) -> bool {
+        self.scramble.is_some()
+    }
+
+    /// Pixel (x, y): hash its shift (or scramble keys) once, then ask it for each sample
+    /// (cheaper than [`FrameSampler::sample`] per sample).
     #[inline]
     pub fn pixel(&self, x: u32, y: u32) -> PixelSampler<'_> {
-        PixelSampler {
-            frame: self,
-            shift: shift::pixel_shift(self.shift_key, x, y),
+        match &self.scramble {
+            None => PixelSampler {
+                frame: self,
+                shift: shift::pixel_shift(self.shift_key, x, y),
+                keys: [0; 2],
+            },
+            Some(s) => {
+                let pixel = ((x as u64) << 32) | y as u64;
+                let key = hash::hash(self.shift_key, &[SCRAMBLE_TAG, pixel, s.points_key]);
+                // The split's two sets get independent keys, as `density::points` gives them.
+                let keys = match s.product {
+                    None => [key, 0],
+                    Some(_) => [hash::hash(key, &[2]), hash::hash(key, &[1])],
+                };
+                PixelSampler {
+                    frame: self,
+                    shift: [0.0; 3],
+                    keys,
+                }
+            }
         }
     }
 
@@ -105,16 +174,34 @@ impl FrameSampler {
 }
 
 impl PixelSampler<'_> {
-    /// The pixel's shift in (u, v, t), each in [0, 1).
+    /// The pixel's shift in (u, v, t), each in [0, 1) (zero when the pixel scrambles).
     pub fn shift(&self) -> [f32; 3] {
         self.shift
     }
 
-    /// Sample `i` (< spp): point i, shifted with wrap-around, then warped.
+    /// Point `i` (< spp) of the pixel in the unit cube, before the warps: the frame's point
+    /// shifted with wrap-around, or the pixel's own scrambled point.
+    #[inline]
+    pub fn point(&self, i: usize) -> [f32; 3] {
+        let Some(s) = &self.frame.scramble else {
+            let p = self.frame.points[i];
+            return [0, 1, 2].map(|d| shift::wrap(p[d], self.shift[d]));
+        };
+        let p = match s.product {
+            None => s.set.scrambled(s.joint, 3, i, self.keys[0]),
+            Some((spatial, temporal)) => {
+                let a = s.set.scrambled(spatial, 2, i / temporal, self.keys[0]);
+                let b = s.set.scrambled(temporal, 1, i % temporal, self.keys[1]);
+                [a[0], a[1], b[0]]
+            }
+        };
+        p.map(|c| (c as f32).min(BELOW_ONE))
+    }
+
+    /// Sample `i` (< spp): point i, shifted with wrap-around (or scrambled), then warped.
     #[inline]
     pub fn sample(&self, i: usize) -> PixelSample {
-        let p = self.frame.points[i];
-        let [u, v, t] = [0, 1, 2].map(|d| shift::wrap(p[d], self.shift[d]));
+        let [u, v, t] = self.point(i);
         let (dx, dy) = self.frame.spatial.offset(u, v);
         PixelSample {
             dx,
@@ -127,7 +214,8 @@ impl PixelSampler<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampling::config::{Density, SpatialFilter};
+    use crate::sampling::config::SpatialFilter;
+    use crate::sampling::ks::{ks_critical, ks_statistic};
     use crate::sampling::pointset::ALL;
     use rayon::prelude::*;
 
@@ -288,6 +376,216 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A digest of every sample of a 9 x 7 patch under `cfg` (seed 2013, frame 5).
+    fn digest(cfg: &SamplingConfig) -> u64 {
+        let s = FrameSampler::new(cfg, 2013, 5).unwrap();
+        all_samples(&s, 9, 7).iter().fold(0, |h, p| {
+            hash::hash(
+                h,
+                &[
+                    p.dx.to_bits() as u64,
+                    p.dy.to_bits() as u64,
+                    p.t.to_bits() as u64,
+                ],
+            )
+        })
+    }
+
+    #[test]
+    fn the_default_randomization_gives_the_same_samples_as_before_it_existed() {
+        // Digests recorded on main before `randomization` existed (commit 9becc42): unset and
+        // an explicit `shift` must give those bytes for every set.
+        let before: [(&str, u32, u64); 6] = [
+            ("random", 16, 0x70f5_7ea7_7f18_352c),
+            ("stratified", 27, 0x4909_c267_ed0b_bd6e),
+            ("hammersley", 64, 0x190b_6037_474c_7597),
+            ("poisson", 16, 0x3cc3_d523_e2ed_2da4),
+            ("sobol", 16, 0x238b_77c4_12ca_a5dd),
+            ("halton", 27, 0x52ae_fe86_7e6d_5dab),
+        ];
+        for (set, spp, expect) in before {
+            let cfg = config(set, spp, "triangle");
+            assert_eq!(digest(&cfg), expect, "{set}");
+            let shift = SamplingConfig {
+                randomization: Some(Randomization::Shift),
+                ..cfg.clone()
+            };
+            assert_eq!(digest(&shift), expect, "{set} with an explicit shift");
+            let scramble = SamplingConfig {
+                randomization: Some(Randomization::Scramble),
+                ..cfg
+            };
+            // Poisson has no scramble and keeps the shift; every other set changes.
+            assert_eq!(
+                digest(&scramble) == expect,
+                set == "poisson",
+                "{set} scrambled"
+            );
+        }
+    }
+
+    fn scrambled(point_set: &str, spp: u32) -> SamplingConfig {
+        SamplingConfig {
+            randomization: Some(Randomization::Scramble),
+            ..config(point_set, spp, "box")
+        }
+    }
+
+    /// How many of `pts` fall in each box of a grid of `cells[d]` equal intervals per axis.
+    fn box_counts(pts: &[[f32; 3]], cells: [usize; 3]) -> Vec<usize> {
+        let mut counts = vec![0; cells.iter().product()];
+        for p in pts {
+            let c = (0..3).fold(0, |acc, d| {
+                acc * cells[d] + ((p[d] as f64 * cells[d] as f64) as usize).min(cells[d] - 1)
+            });
+            counts[c] += 1;
+        }
+        counts
+    }
+
+    #[test]
+    fn scrambled_pixels_keep_their_strata() {
+        // Every pixel's own set must hold exactly one point in every box of these grids (the
+        // strata its unscrambled set fills), at several pixels: Sobol and Hammersley at
+        // N = 2^m are (0, m, 2)-nets in (u, v) (every 2^a x 2^(m-a) grid); 72 Halton points
+        // fill the 8 x 9 grid of (φ_2, φ_3) and 125 fill 125 intervals of φ_5; 27 Hammersley
+        // points fill 27 intervals of φ_3; stratified fills its cells.
+        let mut cases: Vec<(&str, u32, [usize; 3])> = Vec::new();
+        for m in [6u32, 8] {
+            for a in 0..=m {
+                for set in ["sobol", "hammersley"] {
+                    cases.push((set, 1 << m, [1 << a, 1 << (m - a), 1]));
+                }
+            }
+        }
+        cases.extend([
+            ("halton", 72, [8, 9, 1]),
+            ("halton", 125, [1, 1, 125]),
+            ("hammersley", 27, [1, 1, 27]),
+            ("stratified", 27, [3, 3, 3]),
+            ("stratified", 512, [8, 8, 8]),
+        ]);
+        for (set, n, cells) in cases {
+            let s = FrameSampler::new(&scrambled(set, n), 17, 4).unwrap();
+            assert!(s.scrambles());
+            for (x, y) in [(0, 0), (5, 9), (100, 3), (767, 767)] {
+                let px = s.pixel(x, y);
+                let pts: Vec<[f32; 3]> = (0..s.spp()).map(|i| px.point(i)).collect();
+                let counts = box_counts(&pts, cells);
+                let full = n as usize / counts.len();
+                assert!(
+                    counts.iter().all(|&c| c == full),
+                    "{set} n={n} grid {cells:?} pixel ({x}, {y}): {counts:?}"
+                );
+            }
+        }
+        // Hammersley at N = 27 is no 2-adic net, but every 2-adic interval of u = i/N holds
+        // floor or ceil of N times its length, before and after the scramble.
+        let s = FrameSampler::new(&scrambled("hammersley", 27), 17, 4).unwrap();
+        let pts: Vec<[f32; 3]> = (0..27).map(|i| s.pixel(3, 3).point(i)).collect();
+        for k in 1..=4 {
+            let expect = 27.0 / (1 << k) as f64;
+            for c in box_counts(&pts, [1 << k, 1, 1]) {
+                assert!(
+                    c == expect.floor() as usize || c == expect.ceil() as usize,
+                    "{c}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn scrambled_points_are_uniform_and_differ_between_pixels() {
+        // Point i of 4096 pixels, each coordinate against the uniform CDF: KS at α = 1e-4 per
+        // test (critical D = 2.23 / 64 = 0.035; 45 tests, family-wise below 0.005). Point 0
+        // of the unscrambled Hammersley set is the origin: only the scramble moves it.
+        for set in ["random", "stratified", "hammersley", "sobol", "halton"] {
+            let s = FrameSampler::new(&scrambled(set, 64), 23, 1).unwrap();
+            for i in [0, 1, 63] {
+                let pts: Vec<[f32; 3]> = (0..64)
+                    .flat_map(|y| (0..64).map(move |x| (x, y)))
+                    .map(|(x, y)| s.pixel(x, y).point(i))
+                    .collect();
+                for d in 0..3 {
+                    let mut v: Vec<f64> = pts.iter().map(|p| p[d] as f64).collect();
+                    let dn = ks_statistic(&mut v, |x| x);
+                    assert!(
+                        dn < ks_critical(4096, 1e-4),
+                        "{set} point {i} axis {d}: D = {dn}"
+                    );
+                }
+            }
+            let set_of = |x, y| {
+                let px = s.pixel(x, y);
+                (0..64).map(|i| px.point(i)).collect::<Vec<_>>()
+            };
+            assert_ne!(set_of(7, 3), set_of(8, 3), "{set}");
+            assert_ne!(set_of(7, 3), set_of(3, 7), "{set}");
+        }
+        // Poisson has no scramble: it keeps the shift.
+        let s = FrameSampler::new(&scrambled("poisson", 64), 23, 1).unwrap();
+        assert!(!s.scrambles());
+    }
+
+    #[test]
+    fn scrambles_follow_the_scopes_and_the_thread_count() {
+        for (ps, sh) in [
+            (Scope::Frame, Scope::Sequence),
+            (Scope::Sequence, Scope::Frame),
+            (Scope::Sequence, Scope::Sequence),
+        ] {
+            for set in ["hammersley", "sobol", "stratified"] {
+                let cfg = SamplingConfig {
+                    point_set_scope: Some(ps),
+                    shift_scope: Some(sh),
+                    ..scrambled(set, 27)
+                };
+                let a = FrameSampler::new(&cfg, 4, 0).unwrap();
+                let b = FrameSampler::new(&cfg, 4, 1).unwrap();
+                let same = (0..27).all(|i| a.pixel(2, 2).point(i) == b.pixel(2, 2).point(i));
+                assert_eq!(same, ps == sh, "{set} {ps:?} {sh:?}");
+            }
+        }
+        let cfg = SamplingConfig {
+            density: Some(Density::Temporal(4)),
+            ..scrambled("halton", 64)
+        };
+        let render = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let s = FrameSampler::new(&cfg, 12, 3).unwrap();
+                (0..16u32)
+                    .into_par_iter()
+                    .flat_map_iter(|y| {
+                        let s = &s;
+                        (0..16u32).flat_map(move |x| (0..64).map(move |i| s.sample(x, y, i)))
+                    })
+                    .collect::<Vec<_>>()
+            })
+        };
+        let one = render(1);
+        assert_eq!(one, render(2));
+        assert_eq!(
+            one,
+            all_samples(&FrameSampler::new(&cfg, 12, 3).unwrap(), 16, 16)
+        );
+        // The split keeps its product structure: 16 positions x 4 times per pixel.
+        let s = FrameSampler::new(&cfg, 12, 3).unwrap();
+        let px = s.pixel(1, 1);
+        let pts: Vec<[f32; 3]> = (0..64).map(|i| px.point(i)).collect();
+        let distinct = |f: fn(&[f32; 3]) -> Vec<u32>| {
+            pts.iter()
+                .map(f)
+                .collect::<std::collections::BTreeSet<_>>()
+                .len()
+        };
+        assert_eq!(distinct(|p| vec![p[0].to_bits(), p[1].to_bits()]), 16);
+        assert_eq!(distinct(|p| vec![p[2].to_bits()]), 4);
     }
 
     #[test]

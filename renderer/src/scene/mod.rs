@@ -158,4 +158,30 @@ mod tests {
         let (ca, cb) = (scene.camera.frame_at(t), frozen.camera.frame_at(0.0));
         assert_eq!(ca.unwrap().eye, cb.unwrap().eye);
     }
+
+    #[test]
+    fn the_sampling_block_reads_the_randomization_and_refuses_unknown_ones() {
+        let text = |r: &str| {
+            format!(
+                r#"{{"format": "blurlab-scene/1", "materials": [{{"name": "m"}}],
+                "objects": [{{"name": "b", "type": "sphere", "radius": 1, "material": "m"}}],
+                "camera": {{"location": [0, 0, 9], "look_at": [0, 0, 0], "fov": 40}},
+                "settings": {{"frame_time": 0.1, "frames": 3, "width": 8, "height": 8,
+                              "sampling": {{"point_set": "sobol", "randomization": "{r}"}}}}}}"#
+            )
+        };
+        let scene = Scene::from_json(&text("scramble"), Path::new("s.json")).unwrap();
+        assert_eq!(
+            scene.settings.sampling.randomization(),
+            crate::sampling::Randomization::Scramble
+        );
+        let e = format!(
+            "{:#}",
+            Scene::from_json(&text("owen"), Path::new("s.json")).unwrap_err()
+        );
+        assert!(
+            e.contains("s.json") && e.contains("randomization") && e.contains("scramble"),
+            "{e}"
+        );
+    }
 }

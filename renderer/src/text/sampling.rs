@@ -1,11 +1,12 @@
 //! The sampling options both text formats share (`docs/sampling.md`): `spatialfilter
 //! gaussian|box`, `spatialsigma S`, `density joint|temporal K|spatial K`, `pointsetscope
-//! frame|sequence` and `shiftscope frame|sequence`. A job's scopes may also be `scene` (leave
+//! frame|sequence`, `shiftscope frame|sequence` and `randomization shift|scramble` (an
+//! extension: the thesis had only the shift). A job's scopes may also be `scene` (leave
 //! it to each scene's settings), because a job's scopes default to `frame` (see
 //! [`JOB_SCOPE_DEFAULT`]).
 
 use super::{Entries, Out};
-use crate::sampling::{Density, SamplingOptions, Scope, SpatialFilter};
+use crate::sampling::{Density, Randomization, SamplingOptions, Scope, SpatialFilter};
 use anyhow::Result;
 
 /// The scopes of a `.job` without `pointsetscope`/`shiftscope` lines: every point set gets a
@@ -58,12 +59,20 @@ pub fn read(e: &mut Entries, field: &str, host: Host) -> Result<SamplingOptions>
     };
     let point_set_scope = scope("pointsetscope", "point_set_scope")?;
     let shift_scope = scope("shiftscope", "shift_scope")?;
+    // Unset without a line in both formats: the scene's, else the thesis's shift.
+    let randomization = e
+        .choice("randomization", &f("randomization"), &["shift", "scramble"])?
+        .map(|w| match w.as_str() {
+            "scramble" => Randomization::Scramble,
+            _ => Randomization::Shift,
+        });
     Ok(SamplingOptions {
         spatial_filter,
         spatial_sigma,
         density,
         point_set_scope,
         shift_scope,
+        randomization,
     })
 }
 
@@ -112,5 +121,8 @@ pub fn write(o: &SamplingOptions, out: &mut Out, host: Host) {
         if host == Host::Job || s.is_some() {
             out.raw(&[key, scope_word(s)]);
         }
+    }
+    if let Some(r) = o.randomization {
+        out.word("randomization", r.name());
     }
 }

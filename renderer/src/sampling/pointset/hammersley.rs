@@ -3,6 +3,9 @@
 //! leaves the 2D Hammersley set (i/N, φ_2(i)) of thesis Figure 4.
 
 use super::{PointSet, Points, radical_inverse};
+use crate::sampling::scramble::{
+    axis_key, fixed_ratio, fraction, owen_base2, owen_radical_inverse,
+};
 
 /// Deterministic: the seed is ignored (the pixel shift provides the randomness).
 pub struct Hammersley;
@@ -21,6 +24,25 @@ impl PointSet for Hammersley {
         Points::from_fn(n, dims, |i, d| match d {
             0 => i as f64 / n as f64,
             _ => radical_inverse(BASES[d - 1], i as u64),
+        })
+    }
+
+    /// Owen-scrambled per pixel: i/N and φ_2(i) in base 2 (the 32-bit fraction through
+    /// [`owen_base2`]; φ_2(i) is i's bits reversed), φ_3(i) in base 3. At N = 2^m, (u, v)
+    /// stays a (0, m, 2)-net; at any N, every box of 2-adic (u, v) and 3-adic t intervals
+    /// keeps its count.
+    fn scrambles(&self) -> bool {
+        true
+    }
+
+    fn scrambled(&self, n: usize, dims: usize, i: usize, key: u64) -> [f64; 3] {
+        super::coords(dims, |d| match d {
+            0 => fraction(owen_base2(fixed_ratio(i, n), axis_key(key, d) as u32)),
+            1 => fraction(owen_base2(
+                (i as u32).reverse_bits(),
+                axis_key(key, d) as u32,
+            )),
+            _ => owen_radical_inverse(3, i as u32, axis_key(key, d)),
         })
     }
 }

@@ -8,7 +8,7 @@
 mod halton;
 mod hammersley;
 mod poisson;
-mod radical_inverse;
+pub(crate) mod radical_inverse;
 mod random;
 mod sobol;
 mod stratified;
@@ -43,6 +43,28 @@ pub trait PointSet: Sync {
     /// `n` points in `dims` dimensions from `seed` (the same arguments give the same points).
     /// Called only after [`PointSet::check`] passed, with 1 <= n <= MAX_POINTS, 1 <= dims <= 3.
     fn generate(&self, n: usize, dims: usize, seed: u64) -> Points;
+    /// Whether the set has a per-pixel scramble ([`PointSet::scrambled`]); a set without one
+    /// keeps the shift under `randomization: scramble` (docs/sampling.md).
+    fn scrambles(&self) -> bool {
+        false
+    }
+    /// Point `i` of one pixel's own scrambled copy of the `n`-point set in `dims` dimensions,
+    /// keyed by `key` (coordinates past `dims` are 0). Every key gives a set with the strata of
+    /// the unscrambled one, each point uniform on the cube (`crate::sampling::scramble`).
+    /// Called only when [`PointSet::scrambles`] and after [`PointSet::check`] passed.
+    fn scrambled(&self, _n: usize, _dims: usize, _i: usize, _key: u64) -> [f64; 3] {
+        unreachable!("{} has no per-pixel scramble", self.name())
+    }
+}
+
+/// `coord(d)` for d < dims, 0 past them.
+#[inline]
+pub(crate) fn coords(dims: usize, mut coord: impl FnMut(usize) -> f64) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    for (d, c) in out.iter_mut().enumerate().take(dims) {
+        *c = coord(d);
+    }
+    out
 }
 
 /// Every point set, in the order help texts list them.

@@ -48,7 +48,7 @@ pub fn owen_scrambled_radical_inverse(base: u64, mut n: u64, seed: u64) -> f64 {
 }
 
 /// Image of `digit` under the permutation of 0..base drawn by Fisher-Yates from `key`.
-fn permute(digit: u64, base: u64, mut key: u64) -> u64 {
+pub(crate) fn permute(digit: u64, base: u64, mut key: u64) -> u64 {
     debug_assert!(base <= 16, "permutations of small bases only");
     let mut perm: [u64; 16] = std::array::from_fn(|i| i as u64);
     for j in (1..base as usize).rev() {

@@ -17,9 +17,29 @@ impl PointSet for Sobol {
     }
 
     fn generate(&self, n: usize, dims: usize, seed: u64) -> Points {
-        let seed = (seed ^ (seed >> 32)) as u32;
+        let seed = fold(seed);
         Points::from_fn(n, dims, |i, d| {
             sobol_burley::sample(i as u32, d as u32, seed) as f64
         })
     }
+
+    /// Per pixel: the crate's own Owen scramble (and index shuffle) seeded by the pixel's key,
+    /// so every pixel has its own scrambled Sobol set; at N = 2^m dimensions 0 and 1 stay a
+    /// (0, m, 2)-net.
+    fn scrambles(&self) -> bool {
+        true
+    }
+
+    fn scrambled(&self, _n: usize, dims: usize, i: usize, key: u64) -> [f64; 3] {
+        let seed = fold(key);
+        super::coords(dims, |d| {
+            sobol_burley::sample(i as u32, d as u32, seed) as f64
+        })
+    }
+}
+
+/// The crate's 32-bit seed from ours.
+#[inline]
+fn fold(seed: u64) -> u32 {
+    (seed ^ (seed >> 32)) as u32
 }

@@ -3,6 +3,7 @@
 
 use super::{PointSet, Points};
 use crate::hash;
+use crate::sampling::scramble::axis_key;
 
 /// One jittered point per cell of an n x ... x n grid; needs N = n^d.
 pub struct Stratified;
@@ -45,13 +46,34 @@ impl PointSet for Stratified {
 
     fn generate(&self, n: usize, dims: usize, seed: u64) -> Points {
         let k = exact_root(n, dims).expect("checked before generating");
-        Points::from_fn(n, dims, |i, d| {
-            // Cell index of point i along axis d: digit d of i in base k.
-            let cell = (i / k.pow(d as u32)) % k;
-            let jitter = hash::unit_f64(hash::hash(seed, &[i as u64, d as u64]));
-            (cell as f64 + jitter) / k as f64
+        Points::from_fn(n, dims, |i, d| coordinate(k, seed, i, d, 0))
+    }
+
+    /// A pixel's own jittered grid: the cells relabelled along each axis by a random cyclic
+    /// offset (cell c -> (c + r_d) mod k, a permutation of the cell digit in base k, so each
+    /// point's cell, and the point, is uniform) and every point re-jittered inside its cell by
+    /// the pixel's key. One point per cell, always; the set is a fresh jittered grid.
+    fn scrambles(&self) -> bool {
+        true
+    }
+
+    fn scrambled(&self, n: usize, dims: usize, i: usize, key: u64) -> [f64; 3] {
+        let k = exact_root(n, dims).expect("checked before scrambling");
+        super::coords(dims, |d| {
+            let offset = (axis_key(key, d) % k as u64) as usize;
+            coordinate(k, key, i, d, offset)
         })
     }
+}
+
+/// Coordinate d of point i of a k^dims jittered grid whose cells along d are relabelled by
+/// `offset`.
+#[inline]
+fn coordinate(k: usize, seed: u64, i: usize, d: usize, offset: usize) -> f64 {
+    // Cell index of point i along axis d: digit d of i in base k.
+    let cell = ((i / k.pow(d as u32)) + offset) % k;
+    let jitter = hash::unit_f64(hash::hash(seed, &[i as u64, d as u64]));
+    (cell as f64 + jitter) / k as f64
 }
 
 #[cfg(test)]
