@@ -114,9 +114,10 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
 
     eprintln!("[5/5] analyzing");
     let report = out.join("report");
-    let mut analyze = analysis::cli::AnalyzeArgs::new(vec![sessions.clone()], report.clone());
+    let mut analyze =
+        analysis::options::AnalyzeOptions::new(vec![sessions.clone()], report.clone());
     analyze.bootstrap = args.bootstrap;
-    let analysis_report = analysis::cli::run_report(&analyze)?;
+    let analysis_report = analysis::options::run_report(&analyze)?;
     let convergence = report.join("convergence");
     renderer::convergence::write_report(&stimuli, &convergence)?;
 

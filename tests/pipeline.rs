@@ -351,17 +351,17 @@ fn library_chain_hands_each_part_the_previous_parts_files() {
         .expect("simulation");
     check_logs(&design, &manifest, &logs);
 
-    // What `analysis::cli::run_report` does (the binary test below runs it), with 200
+    // What `analysis::options::run_report` does (the binary test below runs it), with 200
     // resamples instead of the command's minimum of 1000: the bootstrap is most of this
     // test's CPU time, and the interval's rate is the recovery test's business.
     let out = inputs.path("results/report");
-    let args = analysis::cli::AnalyzeArgs::new(vec![sessions.clone()], out.clone());
+    let args = analysis::options::AnalyzeOptions::new(vec![sessions.clone()], out.clone());
     let mut settings = args.settings().expect("the command's defaults are valid");
     settings.bootstrap.resamples = LIBRARY_BOOTSTRAP;
     let ds = analysis::data::Dataset::read(&[sessions]).expect("the logs read back");
     assert!(ds.warnings.is_empty(), "{:?}", ds.warnings);
     let report = analysis::report::analyze(&ds, &settings);
-    report.write(&out).expect("report files");
+    analysis::output::write(&report, &out).expect("report files");
     let json = check_report(&out, &design, &logs);
     assert_eq!(json["trials"], report.trials as u64);
     assert_eq!(

@@ -13,7 +13,7 @@ use crate::ttest::{TTest, TestKind, holm, t_test};
 use serde::Serialize;
 
 /// The unit of observation of the t-tests.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Unit {
     /// One value per subject, pooled over the other factors (df = subjects - 1 when paired).
@@ -22,6 +22,13 @@ pub enum Unit {
     /// One value per subject x other-factor cell, as the thesis did (df = cells - 1 when
     /// paired: 29 and 19 with 10 subjects).
     Cell,
+}
+
+impl crate::named::Named for Unit {
+    const ALL: &'static [Self] = &[Unit::Subject, Unit::Cell];
+    fn name(self) -> &'static str {
+        Unit::name(self)
+    }
 }
 
 impl Unit {

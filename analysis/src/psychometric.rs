@@ -27,13 +27,23 @@ pub const GUESS: f64 = 0.5;
 pub const LAPSE_MAX: f64 = 0.06;
 
 /// Whether the lapse rate is estimated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LapseMode {
     /// lapse = 0.
     Fixed,
     /// lapse free in [0, 0.06].
     Free,
+}
+
+impl crate::named::Named for LapseMode {
+    const ALL: &'static [Self] = &[LapseMode::Fixed, LapseMode::Free];
+    fn name(self) -> &'static str {
+        match self {
+            LapseMode::Fixed => "fixed",
+            LapseMode::Free => "free",
+        }
+    }
 }
 
 /// What to fit.

@@ -8,7 +8,7 @@
 use serde::Serialize;
 
 /// The sigmoid family of a fit.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Sigmoid {
     /// S(z) = 1 / (1 + e^-z) (the default).
@@ -31,6 +31,13 @@ pub struct SigmoidValue {
 /// |z| beyond this changes nothing in f64 for any family (S is exactly 0 or 1), and clamping
 /// keeps exp(z) in the Gumbel form finite.
 const Z_LIMIT: f64 = 300.0;
+
+impl crate::named::Named for Sigmoid {
+    const ALL: &'static [Self] = &[Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal];
+    fn name(self) -> &'static str {
+        Sigmoid::name(self)
+    }
+}
 
 impl Sigmoid {
     pub fn name(self) -> &'static str {

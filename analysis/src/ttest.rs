@@ -10,12 +10,19 @@ use crate::student_t::two_sided_p;
 use serde::Serialize;
 
 /// Which t-test.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TestKind {
     Paired,
     Student,
     Welch,
+}
+
+impl crate::named::Named for TestKind {
+    const ALL: &'static [Self] = &[TestKind::Paired, TestKind::Student, TestKind::Welch];
+    fn name(self) -> &'static str {
+        TestKind::name(self)
+    }
 }
 
 impl TestKind {

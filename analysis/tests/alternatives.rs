@@ -4,9 +4,9 @@
 //! task; degenerate m-alternative data are reported as the two-alternative cases are.
 
 use analysis::bootstrap::{BootstrapSettings, Bound, bootstrap};
-use analysis::cli::AnalyzeArgs;
 use analysis::data::{Curve, Dataset};
 use analysis::jnd::{Threshold, empirical_threshold, model_threshold};
+use analysis::options::AnalyzeOptions;
 use analysis::psychometric::{FitSettings, Model, fit};
 use analysis::report::analyze;
 use analysis::sigmoid::Sigmoid;
@@ -213,9 +213,9 @@ fn a_counts_table_takes_its_guess_rate_from_the_design_task() {
     std::fs::write(&design_path, DESIGN).unwrap();
     let design = Design::load(&design_path).unwrap();
 
-    let args = AnalyzeArgs {
+    let args = AnalyzeOptions {
         design: Some(design_path.clone()),
-        ..AnalyzeArgs::new(vec![table.clone()], dir.path().join("out"))
+        ..AnalyzeOptions::new(vec![table.clone()], dir.path().join("out"))
     };
     let ds = Dataset::read(&args.inputs).unwrap();
     assert_eq!((ds.subjects.len(), ds.trials), (6, 6 * 2 * 8 * 8));
@@ -231,11 +231,11 @@ fn a_counts_table_takes_its_guess_rate_from_the_design_task() {
         ),
         ("b", "a")
     );
-    report.write(&args.out).unwrap();
+    analysis::output::write(&report, &args.out).unwrap();
     let md = std::fs::read_to_string(args.out.join("report.md")).unwrap();
     assert!(md.contains("guess rate g = 0.25"), "{md}");
     // An explicit --guess wins over the design.
-    let third = AnalyzeArgs {
+    let third = AnalyzeOptions {
         guess: Some(1.0 / 3.0),
         ..args.clone()
     };
@@ -244,8 +244,10 @@ fn a_counts_table_takes_its_guess_rate_from_the_design_task() {
         1.0 / 3.0
     );
     // Without either, a counts table is refused: its task is unknown.
-    let bare = AnalyzeArgs::new(vec![table.clone()], dir.path().join("out2"));
-    let e = analysis::cli::run_report(&bare).unwrap_err().to_string();
+    let bare = AnalyzeOptions::new(vec![table.clone()], dir.path().join("out2"));
+    let e = analysis::options::run_report(&bare)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("--guess") && e.contains("--design"), "{e}");
 }
 

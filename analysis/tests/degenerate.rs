@@ -122,7 +122,7 @@ fn degenerate_study_reports_honestly_and_finitely() {
 
     // The files: no NaN or infinity anywhere, the flag in the tables, the summary readable.
     let dir = tempfile::tempdir().unwrap();
-    report.write(dir.path()).unwrap();
+    analysis::output::write(&report, dir.path()).unwrap();
     common::assert_report_is_finite(dir.path());
     let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
     assert!(md.contains("| scene | zigzag |") && md.contains("**poor fit**"));

@@ -3,24 +3,29 @@
 
 mod common;
 
-use analysis::cli::{AnalyzeArgs, run, run_report};
+use analysis::options::{AnalyzeOptions, run_report};
 use analysis::psychometric::LapseMode;
 use analysis::sigmoid::Sigmoid;
 use analysis::simulate::StudySpec;
 use analysis::ttest::TestKind;
 use std::path::{Path, PathBuf};
 
-fn args(inputs: Vec<PathBuf>, out: &Path) -> AnalyzeArgs {
-    AnalyzeArgs {
+/// What the `analyze` command runs (without its summary on stderr).
+fn run(a: AnalyzeOptions) -> anyhow::Result<()> {
+    run_report(&a).map(drop)
+}
+
+fn args(inputs: Vec<PathBuf>, out: &Path) -> AnalyzeOptions {
+    AnalyzeOptions {
         bootstrap: 1000,
         seed: 5,
-        ..AnalyzeArgs::new(inputs, out.to_path_buf())
+        ..AnalyzeOptions::new(inputs, out.to_path_buf())
     }
 }
 
 #[test]
 fn library_defaults_are_the_command_line_defaults() {
-    let a = AnalyzeArgs::new(vec!["a".into(), "b".into()], "out".into());
+    let a = AnalyzeOptions::new(vec!["a".into(), "b".into()], "out".into());
     assert_eq!(a.inputs, vec![PathBuf::from("a"), PathBuf::from("b")]);
     assert_eq!(a.out, PathBuf::from("out"));
     assert_eq!(
@@ -34,9 +39,9 @@ fn library_defaults_are_the_command_line_defaults() {
     assert_eq!((a.levels, a.scene_levels), (vec![27, 64, 125], vec![216]));
     // A path that looks like an option is still an input; no input is an error of the run,
     // not a panic.
-    let odd = AnalyzeArgs::new(vec!["--out".into()], "o".into());
+    let odd = AnalyzeOptions::new(vec!["--out".into()], "o".into());
     assert_eq!(odd.inputs, vec![PathBuf::from("--out")]);
-    let none = AnalyzeArgs::new(vec![], "o".into());
+    let none = AnalyzeOptions::new(vec![], "o".into());
     assert!(run(none).unwrap_err().to_string().contains("no input"));
 }
 
@@ -251,7 +256,7 @@ fn a_design_orders_the_pairs_and_must_match_the_logs() {
     };
     let sessions = dir.path().join("sessions");
     spec.write_logs(&sessions, &design.hash).unwrap();
-    let a = AnalyzeArgs {
+    let a = AnalyzeOptions {
         design: Some(design_path.clone()),
         ..args(vec![sessions.clone()], &dir.path().join("out"))
     };
@@ -273,7 +278,7 @@ fn a_design_orders_the_pairs_and_must_match_the_logs() {
     // Logs recorded under another design are refused, naming both hashes.
     let other = dir.path().join("other");
     spec.write_logs(&other, "another-hash").unwrap();
-    let e = run_report(&AnalyzeArgs {
+    let e = run_report(&AnalyzeOptions {
         design: Some(design_path),
         ..args(vec![other], &dir.path().join("out2"))
     })

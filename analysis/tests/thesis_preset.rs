@@ -8,6 +8,7 @@ mod common;
 
 use analysis::cli::AnalyzeArgs;
 use analysis::data::{Dataset, Observation};
+use analysis::options::AnalyzeOptions;
 use analysis::report::{Preset, Report, analyze};
 use analysis::simulate::StudySpec;
 use clap::Parser;
@@ -43,7 +44,7 @@ struct Cli {
 }
 
 /// The study's arguments as a user types them.
-fn args(sessions: &Path, out: &Path) -> AnalyzeArgs {
+fn args(sessions: &Path, out: &Path) -> AnalyzeOptions {
     let argv = [
         "analyze",
         "--preset",
@@ -54,7 +55,10 @@ fn args(sessions: &Path, out: &Path) -> AnalyzeArgs {
         out.to_str().unwrap(),
         sessions.to_str().unwrap(),
     ];
-    Cli::try_parse_from(argv).expect("valid arguments").args
+    Cli::try_parse_from(argv)
+        .expect("valid arguments")
+        .args
+        .options()
 }
 
 /// The paired t-test over cells, computed here: (t, df, two-sided p).
@@ -150,7 +154,7 @@ fn preset_report(dir: &Path) -> (Report, PathBuf) {
     let mut settings = a.settings_for(&ds, None).unwrap();
     settings.bootstrap.resamples = 20;
     let report = analyze(&ds, &settings);
-    report.write(&out).unwrap();
+    analysis::output::write(&report, &out).unwrap();
     (report, out)
 }
 

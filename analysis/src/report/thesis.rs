@@ -4,7 +4,8 @@
 //! rows with full-precision numbers in `thesis_tables.csv`. Beside them, the thesis's JND
 //! reading next to the fitted JND.
 
-use super::{Report, ci_text};
+use super::Report;
+use super::rows::ci_text;
 use crate::comparisons::Comparison;
 use crate::data::Grouping;
 use serde::Serialize;

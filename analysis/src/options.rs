@@ -1,0 +1,229 @@
+//! What an analysis is asked to do: [`AnalyzeOptions`], every field with its default written
+//! out (the `analyze` command's flags map onto it, `analysis::cli`), the validated
+//! [`Settings`] it gives for a data set and design, and [`run_report`]: read, check, analyze,
+//! write.
+
+use crate::bootstrap::BootstrapSettings;
+use crate::comparisons::{ComparisonSettings, PairOrder, Unit};
+use crate::data::{Dataset, Source};
+use crate::psychometric::{FitSettings, GUESS, LapseMode};
+use crate::report::{Preset, Report, Settings, analyze};
+use crate::sigmoid::Sigmoid;
+use crate::ttest::TestKind;
+use anyhow::{Result, bail};
+use experiment::Design;
+use std::path::PathBuf;
+
+/// An analysis of session logs or counts tables (`blurlab analyze`; the flags' help in
+/// `analysis::cli::AnalyzeArgs` says what each field means).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnalyzeOptions {
+    /// A sessions folder (every *.jsonl in it), session log files or counts tables.
+    pub inputs: Vec<PathBuf>,
+    /// Leave out main trials that fail the log checks, with a warning each.
+    pub lenient: bool,
+    /// Report folder.
+    pub out: PathBuf,
+    /// Proportion correct defining the JND.
+    pub target: f64,
+    /// Guess rate; `None`: the design's task, else 0.5 for session logs.
+    pub guess: Option<f64>,
+    /// The study's design file.
+    pub design: Option<PathBuf>,
+    pub sigmoid: Sigmoid,
+    pub lapse: LapseMode,
+    /// Parametric bootstrap resamples per pooled fit.
+    pub bootstrap: usize,
+    /// Master seed of the bootstrap.
+    pub seed: u64,
+    /// Levels (spp) of the t-tests.
+    pub levels: Vec<u32>,
+    /// Extra levels for the between-scene tests.
+    pub scene_levels: Vec<u32>,
+    pub test: TestKind,
+    /// Significance level.
+    pub alpha: f64,
+    /// Unit of observation of the t-tests.
+    pub unit: Unit,
+    /// Subjects left out: `s03` or `s03=reason`.
+    pub exclude: Vec<String>,
+    pub preset: Option<Preset>,
+}
+
+impl AnalyzeOptions {
+    /// The defaults (those of `analyze <inputs> --out <out>`): target 0.75, logistic, lapse
+    /// fixed at 0, 2000 bootstrap resamples with seed 1, paired t-tests per subject at 27, 64
+    /// and 125 spp (scenes also at 216), alpha 0.05.
+    pub fn new(inputs: Vec<PathBuf>, out: PathBuf) -> Self {
+        Self {
+            inputs,
+            lenient: false,
+            out,
+            target: 0.75,
+            guess: None,
+            design: None,
+            sigmoid: Sigmoid::Logistic,
+            lapse: LapseMode::Fixed,
+            bootstrap: 2000,
+            seed: 1,
+            levels: vec![27, 64, 125],
+            scene_levels: vec![216],
+            test: TestKind::Paired,
+            alpha: 0.05,
+            unit: Unit::Subject,
+            exclude: Vec::new(),
+            preset: None,
+        }
+    }
+}
+
+impl AnalyzeOptions {
+    /// Validated analysis settings, the guess rate from --guess or 0.5 (see
+    /// [`AnalyzeOptions::settings_for`] for the default from the data and the design).
+    pub fn settings(&self) -> Result<Settings> {
+        self.settings_with_guess(self.guess.unwrap_or(GUESS))
+    }
+
+    /// Validated settings for this data: the guess rate from --guess, else the task of
+    /// `design`, else 0.5 for session logs; the pair order from the design's factors, else
+    /// the preset's.
+    pub fn settings_for(&self, ds: &Dataset, design: Option<&Design>) -> Result<Settings> {
+        let guess = match (self.guess, design) {
+            (Some(g), _) => g,
+            (None, Some(d)) => d.file.task.guess_rate(),
+            (None, None) if ds.source == Source::CountsTables => bail!(
+                "counts tables do not say the task: give --guess (1/m for m alternatives) or \
+                 --design (its `task`)"
+            ),
+            (None, None) => GUESS,
+        };
+        let mut s = self.settings_with_guess(guess)?;
+        if let Some(d) = design {
+            let f = &d.file.factors;
+            s.comparisons.order = PairOrder {
+                scenes: f.scenes.clone(),
+                point_sets: f.point_sets.clone(),
+                time_filters: f.time_filters.clone(),
+            };
+        }
+        Ok(s)
+    }
+
+    /// `--exclude` as (subject, reason) pairs.
+    pub fn exclusions(&self) -> Vec<(String, Option<String>)> {
+        self.exclude
+            .iter()
+            .map(|e| match e.split_once('=') {
+                Some((id, reason)) => (id.trim().to_string(), Some(reason.trim().to_string())),
+                None => (e.trim().to_string(), None),
+            })
+            .filter(|(id, _)| !id.is_empty())
+            .collect()
+    }
+
+    fn settings_with_guess(&self, guess: f64) -> Result<Settings> {
+        let thesis = self.preset == Some(Preset::Thesis);
+        // The preset's values; clap refuses the options it fixes, so these replace defaults.
+        let (target, alpha, kind, unit) = if thesis {
+            (0.75, 0.05, TestKind::Paired, Unit::Cell)
+        } else {
+            (self.target, self.alpha, self.test, self.unit)
+        };
+        let (levels, scene_levels) = if thesis {
+            (vec![27, 64, 125], vec![216])
+        } else {
+            (self.levels.clone(), self.scene_levels.clone())
+        };
+        if !(guess > 0.0 && guess < 1.0) {
+            bail!("--guess is {guess}; expected a proportion in (0, 1), 1/m for m alternatives");
+        }
+        if !(target > guess && target <= 0.9) {
+            bail!(
+                "--target is {target}; expected a proportion correct in ({guess}, 0.9] (the guess \
+                 rate {guess} is chance, and above 0.9 a free lapse of up to 0.06 could keep the \
+                 function from reaching it)"
+            );
+        }
+        if !(alpha > 0.0 && alpha < 1.0) {
+            bail!("--alpha is {alpha}; expected a level in (0, 1)");
+        }
+        if self.bootstrap < 1000 {
+            bail!(
+                "--bootstrap is {}; expected at least 1000 resamples for a 95% interval",
+                self.bootstrap
+            );
+        }
+        if levels.contains(&0) || scene_levels.contains(&0) {
+            bail!("--levels / --scene-levels: spp must be >= 1");
+        }
+        Ok(Settings {
+            fit: FitSettings {
+                sigmoid: self.sigmoid,
+                lapse: self.lapse,
+                guess,
+            },
+            target,
+            bootstrap: BootstrapSettings {
+                resamples: self.bootstrap,
+                seed: self.seed,
+                target,
+                confidence: 0.95,
+            },
+            comparisons: ComparisonSettings {
+                kind,
+                levels,
+                scene_extra_levels: scene_levels,
+                alpha,
+                unit,
+                order: if thesis {
+                    PairOrder::thesis()
+                } else {
+                    PairOrder::default()
+                },
+            },
+            poor_fit_p: 0.05,
+            preset: self.preset,
+        })
+    }
+}
+
+/// Read the logs, analyze, write the report files and figures; returns the report (e.g. for
+/// [`Report::summary`]). Tolerated problems (torn last lines) are printed as warnings.
+pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
+    if args.guess.is_some() || args.design.is_none() {
+        // Refuse bad options before reading any data (with a design the guess rate, and so
+        // the valid targets, come from its task).
+        args.settings()?;
+    }
+    let design = args.design.as_deref().map(Design::load).transpose()?;
+    let mut ds = Dataset::read_checked(&args.inputs, design.as_ref(), args.lenient)?;
+    if let Some(d) = &design {
+        check_design(d, &ds)?;
+    }
+    ds.exclude(&args.exclusions())?;
+    let settings = args.settings_for(&ds, design.as_ref())?;
+    for w in &ds.warnings {
+        eprintln!("warning: {w}");
+    }
+    let report = analyze(&ds, &settings);
+    crate::output::write(&report, &args.out)?;
+    Ok(report)
+}
+
+/// Session logs must come from `design` (same hash); counts tables carry no hash.
+fn check_design(design: &Design, ds: &Dataset) -> Result<()> {
+    if ds.source == Source::SessionLogs && ds.design_hash != design.hash {
+        bail!(
+            "--design {} has design hash {:?}, but the session logs ({}) carry {:?} (design \
+             {:?}); give the design the logs were recorded with",
+            design.path.display(),
+            design.hash,
+            ds.files
+                .first()
+                .map_or(String::new(), |f| f.display().to_string()),
+            ds.design_hash,
+            ds.design
+        );
+    }
+    Ok(())
+}

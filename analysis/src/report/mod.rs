@@ -1,0 +1,193 @@
+//! The analysis of a whole study and its report: `jnd.csv`, `fits.csv`, `ttests.csv` (tidy,
+//! one row per fit or test), `report.json` (the same rows, format `blurlab-report/1`) and
+//! `report.md` tying tables and figures together with the methods stated.
+
+use crate::bootstrap::{BootstrapResult, BootstrapSettings, bootstrap};
+use crate::comparisons::{Comparison, ComparisonSettings, compare};
+use crate::data::{Dataset, Exclusion, Group, GroupKey, Source};
+use crate::jnd::{Threshold, crossing, empirical_threshold, model_threshold};
+use crate::psychometric::{Fit, FitSettings, fit};
+use serde::Serialize;
+
+mod markdown;
+mod rows;
+mod thesis;
+pub use rows::{FitRow, JndRow, TTestRow};
+pub use thesis::{ThesisRow, display_name, format_p, format_t};
+
+/// The format tag of `report.json`.
+pub const REPORT_FORMAT: &str = "blurlab-report/1";
+
+/// Everything that shapes the analysis.
+#[derive(Clone, Debug, Serialize)]
+pub struct Settings {
+    pub fit: FitSettings,
+    pub target: f64,
+    pub bootstrap: BootstrapSettings,
+    pub comparisons: ComparisonSettings,
+    /// Deviance bootstrap p below this flags a poor fit.
+    pub poor_fit_p: f64,
+    /// A report laid out like a publication's (`--preset`).
+    pub preset: Option<Preset>,
+}
+
+/// Analyses laid out as a publication did them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Preset {
+    /// The thesis's Chapter V: t-tests per subject x other-factor cell, two-sided, alpha 0.05,
+    /// no correction, at 27, 64, 125 spp (scenes also 216), its pair order and sign; Tables 1
+    /// and 2 as printed (`report.md`, `thesis_tables.csv`); its JND reading beside the fit.
+    Thesis,
+}
+
+impl crate::named::Named for Preset {
+    const ALL: &'static [Self] = &[Preset::Thesis];
+    fn name(self) -> &'static str {
+        match self {
+            Preset::Thesis => "thesis",
+        }
+    }
+}
+
+impl Default for Settings {
+    /// The `analyze` command's defaults (logistic, lapse 0, target 0.75, 2000 resamples,
+    /// paired tests at 27, 64, 125 and 216 spp for scenes, alpha 0.05):
+    /// [`crate::options::AnalyzeOptions`]'s, written out there.
+    fn default() -> Self {
+        crate::options::AnalyzeOptions::new(Vec::new(), std::path::PathBuf::new())
+            .settings()
+            .expect("the defaults are valid")
+    }
+}
+
+/// Mean and standard error over subjects at one level.
+#[derive(Clone, Debug, Serialize)]
+pub struct LevelSummary {
+    pub level: u32,
+    pub mean: f64,
+    /// `None` with fewer than two subjects.
+    pub sem: Option<f64>,
+    pub subjects: usize,
+}
+
+/// One subject's fit in one group.
+#[derive(Clone, Debug, Serialize)]
+pub struct SubjectResult {
+    pub subject: String,
+    pub fit: Fit,
+    pub threshold: Threshold,
+    pub empirical: Threshold,
+}
+
+/// Everything computed for one group.
+#[derive(Clone, Debug, Serialize)]
+pub struct GroupResult {
+    pub key: GroupKey,
+    pub pooled: Fit,
+    pub threshold: Threshold,
+    pub empirical: Threshold,
+    /// The thesis's reading of its figures: where the mean over subjects of the per-subject
+    /// proportions (the plotted points), joined by straight lines in ln spp, first falls
+    /// through the target. Equals `empirical` when every subject has the same trials.
+    pub mean_crossing: Threshold,
+    pub bootstrap: BootstrapResult,
+    pub poor_fit: bool,
+    pub subjects: Vec<SubjectResult>,
+    pub levels: Vec<LevelSummary>,
+}
+
+/// The analyzed study.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    pub settings: Settings,
+    pub design: String,
+    pub design_hash: String,
+    pub subjects: Vec<String>,
+    pub files: Vec<String>,
+    pub trials: usize,
+    pub warnings: Vec<String>,
+    pub source: Source,
+    /// Subjects left out (`--exclude`), with the reasons given.
+    pub excluded: Vec<Exclusion>,
+    pub groups: Vec<GroupResult>,
+    pub comparisons: Vec<Comparison>,
+}
+
+/// Fit, bootstrap and test everything.
+pub fn analyze(ds: &Dataset, s: &Settings) -> Report {
+    let groups = ds.groups.iter().map(|g| analyze_group(ds, g, s)).collect();
+    Report {
+        settings: s.clone(),
+        design: ds.design.clone(),
+        design_hash: ds.design_hash.clone(),
+        subjects: ds.subjects.clone(),
+        files: ds.files.iter().map(|f| f.display().to_string()).collect(),
+        trials: ds.trials,
+        warnings: ds.warnings.clone(),
+        source: ds.source,
+        excluded: ds.excluded.clone(),
+        groups,
+        comparisons: compare(ds, &s.comparisons),
+    }
+}
+
+fn analyze_group(ds: &Dataset, g: &Group, s: &Settings) -> GroupResult {
+    let pooled = fit(&g.pooled, &s.fit);
+    let boot = bootstrap(&pooled, g.key.id(), &s.bootstrap);
+    let subjects = g
+        .per_subject
+        .iter()
+        .zip(&ds.subjects)
+        .filter(|(c, _)| !c.points.is_empty())
+        .map(|(c, name)| {
+            let f = fit(c, &s.fit);
+            SubjectResult {
+                subject: name.clone(),
+                threshold: model_threshold(&f, s.target),
+                empirical: empirical_threshold(c, s.target),
+                fit: f,
+            }
+        })
+        .collect();
+    let levels = level_summaries(g);
+    let means: Vec<(u32, f64)> = levels.iter().map(|l| (l.level, l.mean)).collect();
+    GroupResult {
+        key: g.key.clone(),
+        threshold: model_threshold(&pooled, s.target),
+        empirical: empirical_threshold(&g.pooled, s.target),
+        mean_crossing: crossing(&means, s.target),
+        poor_fit: boot.deviance_p < s.poor_fit_p,
+        bootstrap: boot,
+        pooled,
+        subjects,
+        levels,
+    }
+}
+
+/// Mean over subjects of per-subject proportions, with the standard error of that mean.
+pub fn level_summaries(g: &Group) -> Vec<LevelSummary> {
+    g.pooled
+        .levels()
+        .into_iter()
+        .map(|level| {
+            let p: Vec<f64> = g
+                .subject_proportions(level)
+                .into_iter()
+                .map(|x| x.1)
+                .collect();
+            let n = p.len();
+            let mean = p.iter().sum::<f64>() / n as f64;
+            let sem = (n >= 2).then(|| {
+                let v = p.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+                (v / n as f64).sqrt()
+            });
+            LevelSummary {
+                level,
+                mean,
+                sem,
+                subjects: n,
+            }
+        })
+        .collect()
+}
