@@ -4,7 +4,8 @@
 //! spanning the interval of a step fit). Per scene, per point set, and overlaid; SVG and PNG.
 //!
 //! PNG text needs a font: the Ubuntu Light face bundled by `epaint_default_fonts` (pure Rust
-//! bytes, the font egui ships) is registered with plotters' ab_glyph backend, so no system font
+//! bytes, the font egui ships) is registered with plotters' ab_glyph backend by
+//! `renderer::plot_font` (as for the convergence plots), so no system font
 //! library is involved. SVG text is left to the viewer's sans-serif.
 
 use crate::data::Grouping;
@@ -15,7 +16,6 @@ use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
-use std::sync::Once;
 
 pub(crate) const SIZE: (u32, u32) = (800, 600);
 pub(crate) const FONT: &str = "sans-serif";
@@ -32,17 +32,7 @@ pub(crate) const PALETTE: [RGBColor; 6] = [
 ];
 
 pub(crate) fn register_font() -> Result<()> {
-    static ONCE: Once = Once::new();
-    let mut result = Ok(());
-    ONCE.call_once(|| {
-        result = plotters::style::register_font(
-            FONT,
-            FontStyle::Normal,
-            epaint_default_fonts::UBUNTU_LIGHT,
-        )
-        .map_err(|_| anyhow!("the bundled Ubuntu Light font could not be loaded"));
-    });
-    result
+    renderer::plot_font::register(FONT)
 }
 
 /// One figure: a title and the groups it overlays.

@@ -263,13 +263,7 @@ fn write_slopes_csv(path: &Path, slopes: &[Slope]) -> Result<()> {
 }
 
 pub(crate) fn register_font() -> Result<()> {
-    static RESULT: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    let ok = *RESULT.get_or_init(|| {
-        plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
-            .is_ok()
-    });
-    ok.then_some(())
-        .ok_or_else(|| anyhow!("the bundled Ubuntu Light font could not be loaded"))
+    crate::plot_font::register(FONT)
 }
 
 #[derive(Clone, Copy, PartialEq)]

@@ -24,6 +24,7 @@ pub mod material;
 pub mod metrics;
 pub mod motion;
 pub mod paths;
+pub mod plot_font;
 pub mod procedural;
 pub mod render;
 pub mod sampling;
