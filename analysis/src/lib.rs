@@ -17,6 +17,7 @@ pub mod progress;
 pub mod psychometric;
 pub mod report;
 pub mod sigmoid;
+#[cfg(any(test, feature = "test-support"))]
 pub mod simulate;
 pub mod student_t;
 pub mod summary;

@@ -7,12 +7,13 @@
 //! sequence, never per pixel ([`pointset`], split between space and time by [`density`]); each
 //! pixel rotates them by its own seeded shift ([`shift`], Cranley-Patterson), then the spatial
 //! warp ([`warp`]) and the time filter ([`time_filter`]) turn them into a sub-pixel offset and
-//! a shutter time. [`discrepancy`] and [`spacing`] measure sets; [`ks`] tests distributions.
+//! a shutter time. [`discrepancy`] and [`spacing`] measure sets; `ks` (unit tests only) tests distributions.
 
 pub mod config;
 pub mod density;
 pub mod discrepancy;
-pub mod ks;
+#[cfg(test)]
+pub(crate) mod ks;
 pub mod pointset;
 pub mod sampler;
 pub mod scramble;
