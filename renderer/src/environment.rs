@@ -59,10 +59,19 @@ impl Environment {
         rotation_degrees: f32,
     ) -> (Self, Repairs) {
         assert_eq!(texels.len(), width * height, "texel count");
-        let negative_share = negative_share(&texels, width, height);
-        let repairs = Repairs {
-            negative_share,
-            ..sanitise(&mut texels)
+        // Real maps are clean: one branch-free pass (NaN fails both comparisons) proves it and
+        // skips the two slower passes, which would change nothing and find nothing.
+        let clean = texels
+            .iter()
+            .all(|t| t.min_element() >= 0.0 && t.max_element() <= MAX_RADIANCE);
+        let repairs = if clean {
+            Repairs::default()
+        } else {
+            let negative_share = negative_share(&texels, width, height);
+            Repairs {
+                negative_share,
+                ..sanitise(&mut texels)
+            }
         };
         let r = rotation_degrees.to_radians();
         (
@@ -248,7 +257,11 @@ fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
                 })?
                 .into_rgb32f();
             let (w, h) = img.dimensions();
-            let px = img.pixels().map(|p| Vec3::from(p.0)).collect();
+            let px = img
+                .into_raw()
+                .chunks_exact(3)
+                .map(Vec3::from_slice)
+                .collect();
             Ok((px, w as usize, h as usize))
         }
         _ => bail!(
