@@ -33,7 +33,8 @@ pub const MAX_NEGATIVE_SHARE: f64 = 1e-3;
 pub struct Environment {
     width: usize,
     height: usize,
-    texels: Vec<Vec3>,
+    /// Row-major texels, three floats (r, g, b) each: the decoder's own buffer, not copied.
+    texels: Vec<f32>,
     intensity: f32,
     /// cos and sin of the map's turn about +y.
     turn: (f32, f32),
@@ -54,15 +55,34 @@ impl Environment {
     pub fn new(
         width: usize,
         height: usize,
-        mut texels: Vec<Vec3>,
+        texels: Vec<Vec3>,
         intensity: f32,
         rotation_degrees: f32,
     ) -> (Self, Repairs) {
-        assert_eq!(texels.len(), width * height, "texel count");
-        let negative_share = negative_share(&texels, width, height);
-        let repairs = Repairs {
-            negative_share,
-            ..sanitise(&mut texels)
+        let flat = texels.iter().flat_map(|t| t.to_array()).collect();
+        Self::from_flat(width, height, flat, intensity, rotation_degrees)
+    }
+
+    /// [`Self::new`] from three floats per texel.
+    fn from_flat(
+        width: usize,
+        height: usize,
+        mut texels: Vec<f32>,
+        intensity: f32,
+        rotation_degrees: f32,
+    ) -> (Self, Repairs) {
+        assert_eq!(texels.len(), 3 * width * height, "texel count");
+        // Real maps are clean: one branch-free pass (NaN fails both comparisons) proves it and
+        // skips the two slower passes, which would change nothing and find nothing.
+        let clean = texels.iter().all(|c| (0.0..=MAX_RADIANCE).contains(c));
+        let repairs = if clean {
+            Repairs::default()
+        } else {
+            let negative_share = negative_share(&texels, width, height);
+            Repairs {
+                negative_share,
+                ..sanitise(&mut texels)
+            }
         };
         let r = rotation_degrees.to_radians();
         (
@@ -89,7 +109,7 @@ impl Environment {
         if w == 0 || h == 0 {
             bail!("{}: the environment map is empty", path.display());
         }
-        let (env, r) = Self::new(w, h, texels, intensity, rotation_degrees);
+        let (env, r) = Self::from_flat(w, h, texels, intensity, rotation_degrees);
         check_negatives(path, &r, negatives)?;
         let mut notes = Vec::new();
         if r.nan + r.too_large > 0 {
@@ -138,7 +158,10 @@ impl Environment {
         let (c0, c1) = (col(x0 as i64), col(x0 as i64 + 1));
         let r0 = y0 as usize;
         let r1 = (r0 + 1).min(self.height - 1);
-        let at = |r: usize, c: usize| self.texels[r * self.width + c];
+        let at = |r: usize, c: usize| {
+            let i = 3 * (r * self.width + c);
+            Vec3::from_slice(&self.texels[i..i + 3])
+        };
         let top = at(r0, c0).lerp(at(r0, c1), ax);
         let bottom = at(r1, c0).lerp(at(r1, c1), ax);
         top.lerp(bottom, ay)
@@ -183,11 +206,11 @@ fn percent(share: f64) -> String {
 /// Σ|negative values| / Σ|all finite values|, each texel weighted by its solid angle in the
 /// lat-long mapping (sin θ of its row's centre): the share of the map's energy that clamping
 /// negatives to 0 changes.
-fn negative_share(texels: &[Vec3], width: usize, height: usize) -> f64 {
+fn negative_share(texels: &[f32], width: usize, height: usize) -> f64 {
     let (mut negative, mut all) = (0.0f64, 0.0f64);
-    for (row, line) in texels.chunks(width.max(1)).enumerate() {
+    for (row, line) in texels.chunks(3 * width.max(1)).enumerate() {
         let w = (std::f64::consts::PI * (row as f64 + 0.5) / height as f64).sin();
-        for c in line.iter().flat_map(|t| t.to_array()) {
+        for &c in line {
             let c = c as f64;
             if c.is_finite() {
                 all += w * c.abs().min(MAX_RADIANCE as f64);
@@ -200,10 +223,10 @@ fn negative_share(texels: &[Vec3], width: usize, height: usize) -> f64 {
     if all > 0.0 { negative / all } else { 0.0 }
 }
 
-fn sanitise(texels: &mut [Vec3]) -> Repairs {
+fn sanitise(texels: &mut [f32]) -> Repairs {
     let mut r = Repairs::default();
-    for t in texels.iter_mut() {
-        for c in [&mut t.x, &mut t.y, &mut t.z] {
+    for t in texels.chunks_mut(3) {
+        for c in t {
             if c.is_nan() {
                 r.nan += 1;
                 *c = 0.0;
@@ -219,7 +242,8 @@ fn sanitise(texels: &mut [Vec3]) -> Repairs {
     r
 }
 
-fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
+/// Three floats per texel, row-major.
+fn read_texels(path: &Path) -> Result<(Vec<f32>, usize, usize)> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
@@ -232,11 +256,7 @@ fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
                     path.display()
                 )
             })?;
-            Ok((
-                px.into_iter().map(Vec3::from).collect(),
-                w as usize,
-                h as usize,
-            ))
+            Ok((px.into_iter().flatten().collect(), w as usize, h as usize))
         }
         "hdr" => {
             let img = open_bounded(path)
@@ -248,8 +268,7 @@ fn read_texels(path: &Path) -> Result<(Vec<Vec3>, usize, usize)> {
                 })?
                 .into_rgb32f();
             let (w, h) = img.dimensions();
-            let px = img.pixels().map(|p| Vec3::from(p.0)).collect();
-            Ok((px, w as usize, h as usize))
+            Ok((img.into_raw(), w as usize, h as usize))
         }
         _ => bail!(
             "{}: environment maps must be .hdr or .exr files",
@@ -341,12 +360,8 @@ mod tests {
             }
         );
         assert!(r.negative_share > 0.0 && r.negative_share < 1e-3);
-        assert!(
-            env.texels
-                .iter()
-                .all(|t| t.is_finite() && t.min_element() >= 0.0)
-        );
-        assert!(env.texels.iter().all(|t| t.max_element() <= MAX_RADIANCE));
+        assert!(env.texels.iter().all(|t| t.is_finite() && *t >= 0.0));
+        assert!(env.texels.iter().all(|t| *t <= MAX_RADIANCE));
         for d in [Vec3A::X, Vec3A::Y, Vec3A::NEG_Z, Vec3A::ZERO, Vec3A::NAN] {
             assert!(env.radiance(d).is_finite());
         }
@@ -372,7 +387,7 @@ mod tests {
             w.contains("1 negative texel values") && w.contains("clamped to 0"),
             "{w}"
         );
-        assert!(env.texels.iter().all(|t| t.min_element() >= 0.0));
+        assert!(env.texels.iter().all(|t| *t >= 0.0));
         let e = Environment::load(&path, 1.0, 0.0, Some(NegativeTexels::Refuse)).unwrap_err();
         assert!(format!("{e:#}").contains("map.exr"), "{e:#}");
         texels[5][1] = -2.0;

@@ -462,3 +462,54 @@ fn third_party_maps_negative_texels_are_counted_and_refused_above_the_share() {
         }
     }
 }
+
+/// The sequence path (tiles, and with two threads a writer thread overlapping the next frame)
+/// writes the same files, in full, whatever the thread count; sizes that are not a multiple of
+/// the tile side included.
+#[test]
+fn sequences_write_the_same_files_with_one_or_two_threads() {
+    use renderer::render::sequence::{SequenceOptions, render_sequence};
+    let dir = tempfile::tempdir().unwrap();
+    let mut v = motion_scene(dir.path(), false);
+    v["objects"][1]["velocity"] = json!([2, 0, 0]);
+    let mut scene = load(&v, dir.path());
+    scene.settings.width = 37;
+    scene.settings.height = 21;
+    let frames = 0..scene.settings.frames.min(3);
+    let run = |threads: usize| {
+        let out = dir.path().join(format!("out{threads}"));
+        let opts = SequenceOptions {
+            out_dir: out.clone(),
+            frames: frames.clone(),
+            seed: 3,
+            exr: true,
+            progress: false,
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let report = pool
+            .install(|| render_sequence(&scene, &sampling(4), &opts))
+            .unwrap();
+        assert_eq!(report.frames as usize, frames.len());
+        assert_eq!(report.stats.samples, 37 * 21 * 4 * frames.len() as u64);
+        let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| {
+                let e = e.unwrap();
+                let name = e.file_name().to_string_lossy().into_owned();
+                (name, std::fs::read(e.path()).unwrap())
+            })
+            .collect();
+        files.sort();
+        files
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(
+        one.len(),
+        2 * frames.len(),
+        "a PNG and an EXR per frame, no temporaries"
+    );
+    assert_eq!(one, two);
+}

@@ -291,7 +291,7 @@ fn render_units(
     };
     let total: u64 = todo.iter().map(|&(s, _)| cost(s)).sum();
     let bar = progress_bar(opts.progress, total);
-    for (n, &(s, f)) in todo.iter().enumerate() {
+    let mut render = |n: usize, s: usize, f: u32| -> Result<(RenderedFrame, f64)> {
         let spec = &plan.specs[s];
         bar.set_message(format!(
             "frame {}/{} of shard {}: {} #{f}",
@@ -300,9 +300,44 @@ fn render_units(
             opts.shard,
             spec.id
         ));
-        render_frame(job, plan, sources, job_dir, s, f)?;
+        let out = render_frame(plan, sources, s, f)?;
         report.frames_rendered += 1;
         bar.inc(cost(s));
+        Ok(out)
+    };
+    // With more than one rayon thread, frame k's files are encoded, measured and written on a
+    // writer thread while frame k + 1 is traced. The writer takes frames in order, so what it
+    // finds on disk (a reference frame, say) is what the serial loop would have found.
+    if rayon::current_num_threads() <= 1 {
+        for (n, &(s, f)) in todo.iter().enumerate() {
+            let (rendered, seconds) = render(n, s, f)?;
+            write_frame(job, plan, job_dir, s, f, &rendered, seconds)?;
+        }
+    } else {
+        let (send, receive) = std::sync::mpsc::sync_channel::<(usize, u32, RenderedFrame, f64)>(1);
+        std::thread::scope(|threads| -> Result<()> {
+            let writer = threads.spawn(move || -> Result<()> {
+                for (s, f, rendered, seconds) in receive {
+                    write_frame(job, plan, job_dir, s, f, &rendered, seconds)?;
+                }
+                Ok(())
+            });
+            let rendered = (|| -> Result<()> {
+                for (n, &(s, f)) in todo.iter().enumerate() {
+                    let (rendered, seconds) = render(n, s, f)?;
+                    if send.send((s, f, rendered, seconds)).is_err() {
+                        // The writer stopped on an error, which its join below returns.
+                        break;
+                    }
+                }
+                Ok(())
+            })();
+            drop(send);
+            let written = writer
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            written.and(rendered)
+        })?;
     }
     bar.finish_and_clear();
     Ok(())
@@ -322,23 +357,34 @@ fn progress_bar(show: bool, total: u64) -> indicatif::ProgressBar {
     bar
 }
 
-/// Render one frame of stimulus `s` and write its files, record last.
+/// Render one frame of stimulus `s`; the seconds it took.
 fn render_frame(
-    job: &Job,
     plan: &Plan,
     sources: &[Box<dyn FrameSource>],
-    job_dir: &Path,
     s: usize,
     frame: u32,
-) -> Result<()> {
+) -> Result<(RenderedFrame, f64)> {
     let spec = &plan.specs[s];
-    let setup = plan.setups[s];
-    let dir = stimulus_dir(job_dir, spec);
     let start = Instant::now();
     let rendered = sources[spec.scene_index]
         .render(&spec.sampling, spec.seed, frame)
         .with_context(|| format!("rendering {} frame {frame}", spec.id))?;
-    let render_seconds = start.elapsed().as_secs_f64();
+    Ok((rendered, start.elapsed().as_secs_f64()))
+}
+
+/// Write the files of frame `frame` of stimulus `s`, record last.
+fn write_frame(
+    job: &Job,
+    plan: &Plan,
+    job_dir: &Path,
+    s: usize,
+    frame: u32,
+    rendered: &RenderedFrame,
+    render_seconds: f64,
+) -> Result<()> {
+    let spec = &plan.specs[s];
+    let setup = plan.setups[s];
+    let dir = stimulus_dir(job_dir, spec);
     let png = png_bytes(&rendered.display, setup.width, setup.height)?;
     // Measure now if the reference frame already exists; otherwise keep this frame's linear
     // values (a scratch EXR) so the error can be measured when the job is finalized.
@@ -347,7 +393,7 @@ fn render_frame(
         Some(r) => {
             let ref_dir = stimulus_dir(job_dir, &plan.specs[r]);
             match record::completed(&ref_dir, frame, true) {
-                Some(_) => Some(measure(&rendered, &ref_dir, frame, setup)?),
+                Some(_) => Some(measure(rendered, &ref_dir, frame, setup)?),
                 None => None,
             }
         }

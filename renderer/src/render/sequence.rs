@@ -1,9 +1,10 @@
 //! Rendering a run of frames to disk: each frame is written (PNG, and EXR on request) as soon
-//! as it is done, to a temporary name then renamed, under a progress bar showing frames done,
+//! as it is done (on a writer thread, overlapping the next frame's tracing), to a temporary name then renamed, under a progress bar showing frames done,
 //! samples per second and the time left.
 
 use super::{FrameStats, render_frame};
 use crate::atomic::write_atomic;
+use crate::film::Film;
 use crate::job::frame_record::{exr_path, png_path};
 use crate::job::linear_frame::exr_bytes;
 use crate::job::runner::png_bytes;
@@ -38,6 +39,11 @@ pub struct SequenceReport {
 }
 
 /// Render `opts.frames` of `scene` with `sampling`, writing each frame when it is done.
+///
+/// With more than one rayon thread, developing, encoding and writing frame N runs on a writer
+/// thread while frame N + 1 is traced (a channel of one frame between them, so at most three
+/// frames are in memory); frames are still written in order, each atomically. With one rayon
+/// thread everything stays on the calling thread, so one thread means one core.
 pub fn render_sequence(
     scene: &Scene,
     sampling: &SamplingConfig,
@@ -48,7 +54,7 @@ pub fn render_sequence(
     let count = opts.frames.len() as u32;
     let bar = progress_bar(opts.progress, per_frame * count as u64);
     let mut report = SequenceReport::default();
-    for (n, frame) in opts.frames.clone().enumerate() {
+    let mut render = |n: usize, frame: u32| -> Result<Film> {
         bar.set_message(format!("frame {}/{count} (scene frame {frame})", n + 1));
         let start = Instant::now();
         let (film, stats) = render_frame(scene, sampling, opts.seed, frame, Some(&bar))
@@ -56,16 +62,54 @@ pub fn render_sequence(
         report.render_seconds += start.elapsed().as_secs_f64();
         report.stats += stats;
         report.frames += 1;
-        let developed = film.develop(s.exposure);
-        let png = png_bytes(&developed.display, s.width, s.height)?;
-        write_atomic(&png_path(&opts.out_dir, frame), &png)?;
-        if opts.exr {
-            let exr = exr_bytes(&developed.linear, s.width, s.height)?;
-            write_atomic(&exr_path(&opts.out_dir, frame), &exr)?;
+        Ok(film)
+    };
+    if rayon::current_num_threads() <= 1 {
+        for (n, frame) in opts.frames.clone().enumerate() {
+            let film = render(n, frame)?;
+            write_frame(scene, opts, frame, &film)?;
         }
+    } else {
+        let (send, receive) = std::sync::mpsc::sync_channel::<(u32, Film)>(1);
+        std::thread::scope(|threads| -> Result<()> {
+            let writer = threads.spawn(move || -> Result<()> {
+                for (frame, film) in receive {
+                    write_frame(scene, opts, frame, &film)?;
+                }
+                Ok(())
+            });
+            let rendered = (|| -> Result<()> {
+                for (n, frame) in opts.frames.clone().enumerate() {
+                    let film = render(n, frame)?;
+                    if send.send((frame, film)).is_err() {
+                        // The writer stopped on an error, which its join below returns.
+                        break;
+                    }
+                }
+                Ok(())
+            })();
+            drop(send);
+            let written = writer
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            written.and(rendered)
+        })?;
     }
     bar.finish_and_clear();
     Ok(report)
+}
+
+/// Develop `film` and write its PNG (and EXR on request) under `opts.out_dir`.
+fn write_frame(scene: &Scene, opts: &SequenceOptions, frame: u32, film: &Film) -> Result<()> {
+    let s = &scene.settings;
+    let developed = film.develop(s.exposure);
+    let png = png_bytes(&developed.display, s.width, s.height)?;
+    write_atomic(&png_path(&opts.out_dir, frame), &png)?;
+    if opts.exr {
+        let exr = exr_bytes(&developed.linear, s.width, s.height)?;
+        write_atomic(&exr_path(&opts.out_dir, frame), &exr)?;
+    }
+    Ok(())
 }
 
 fn progress_bar(show: bool, total_samples: u64) -> ProgressBar {
