@@ -126,7 +126,7 @@ pub fn write(path: &Path, tiles: &[Tile], columns: usize) -> Result<()> {
         root.present()
             .map_err(|e| anyhow!("cannot draw the contact sheet: {e}"))?;
     }
-    let png = crate::job::runner::png_bytes(&rgb, w, h)?;
+    let png = crate::frame_io::png::png_bytes(&rgb, w, h)?;
     crate::atomic::write_atomic(path, &png)
 }
 

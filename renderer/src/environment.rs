@@ -250,7 +250,7 @@ fn read_texels(path: &Path) -> Result<(Vec<f32>, usize, usize)> {
         .unwrap_or_default();
     match ext.as_str() {
         "exr" => {
-            let (px, w, h) = crate::job::linear_frame::read_exr(path).with_context(|| {
+            let (px, w, h) = crate::frame_io::exr::read_exr(path).with_context(|| {
                 format!(
                     "cannot read environment map {} as an OpenEXR image (the scene's sky)",
                     path.display()
@@ -369,7 +369,7 @@ mod tests {
 
     fn exr_map(dir: &Path, texels: &[[f32; 3]], w: u32, h: u32) -> std::path::PathBuf {
         let path = dir.join("map.exr");
-        let bytes = crate::job::linear_frame::exr_bytes(texels, w, h).unwrap();
+        let bytes = crate::frame_io::exr::exr_bytes(texels, w, h).unwrap();
         std::fs::write(&path, bytes).unwrap();
         path
     }

@@ -2,8 +2,32 @@
 //! point), and its two outputs — 8-bit sRGB for display (exposure, then clamp to [0, 1], then
 //! the sRGB curve) and 32-bit float linear values (after exposure) for measurement.
 
-use crate::job::source::{RenderedFrame, srgb8};
 use glam::Vec3;
+
+/// One rendered frame in both forms.
+#[derive(Clone, Debug)]
+pub struct RenderedFrame {
+    /// Linear HDR radiance after exposure, row-major.
+    pub linear: Vec<[f32; 3]>,
+    /// 8-bit sRGB display values, packed RGB, row-major.
+    pub display: Vec<u8>,
+}
+
+/// Display encoding of a linear value: clamp to [0, 1], then the sRGB transfer curve, rounded
+/// to 8 bits (the film's, and the synthetic test source's).
+pub fn srgb8(linear: f32) -> u8 {
+    let c = if linear.is_finite() {
+        linear.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let s = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0 + 0.5) as u8
+}
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {

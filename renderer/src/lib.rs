@@ -13,6 +13,7 @@ pub mod display_convergence;
 pub mod environment;
 pub mod export;
 pub mod film;
+pub mod frame_io;
 pub mod geometry;
 pub mod hash;
 pub mod job;

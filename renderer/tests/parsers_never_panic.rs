@@ -135,7 +135,7 @@ fn hdr_bytes() -> Vec<u8> {
 
 fn exr_bytes() -> Vec<u8> {
     let px: Vec<[f32; 3]> = (0..16).map(|i| [i as f32, 1.0, 0.5]).collect();
-    renderer::job::linear_frame::exr_bytes(&px, 4, 4).unwrap()
+    renderer::frame_io::exr::exr_bytes(&px, 4, 4).unwrap()
 }
 
 fn load_map(name: &str, bytes: &[u8]) {

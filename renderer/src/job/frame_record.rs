@@ -4,6 +4,7 @@
 //! with the files on disk is rendered again. Render time lives here too (the only field that
 //! differs between two runs of the same job).
 
+use crate::frame_io::names::{exr_path, png_path};
 use crate::metrics::FrameError;
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
@@ -29,25 +30,6 @@ pub struct FrameRecord {
     /// reference frame already existed, else when the job is finalized).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error: Option<FrameError>,
-}
-
-/// `dir/frame_NNNN.png`.
-pub fn png_path(dir: &Path, frame: u32) -> PathBuf {
-    dir.join(png_name(frame))
-}
-
-/// `frame_NNNN.png`: the display frame's file name.
-pub fn png_name(frame: u32) -> String {
-    format!("frame_{frame:04}.png")
-}
-
-/// `dir/frame_NNNN.exr`.
-pub fn exr_path(dir: &Path, frame: u32) -> PathBuf {
-    dir.join(exr_name(frame))
-}
-
-pub fn exr_name(frame: u32) -> String {
-    format!("frame_{frame:04}.exr")
 }
 
 /// `dir/frame_NNNN.json`.

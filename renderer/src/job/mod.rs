@@ -9,7 +9,6 @@
 pub mod expand;
 pub mod frame_record;
 pub mod line_format;
-pub mod linear_frame;
 pub mod lock;
 pub mod runner;
 pub mod scene_source;

@@ -10,10 +10,11 @@
 
 use super::expand::StimulusSpec;
 use super::frame_record::{self as record, FrameRecord};
-use super::linear_frame;
 use super::shard::{self, Shard, Unit};
-use super::source::{FrameSetup, FrameSource, RenderedFrame};
+use super::source::{FrameSetup, FrameSource};
 use super::{Job, expand};
+use crate::film::RenderedFrame;
+use crate::frame_io::{exr as linear_frame, names, png::png_bytes};
 use crate::manifest::{self, Manifest};
 use crate::metrics::{ErrorAccumulator, FrameError};
 use crate::sampling::SamplingConfig;
@@ -402,10 +403,10 @@ fn write_frame(
     let mut exr_bytes = None;
     if keep_exr {
         let exr = linear_frame::exr_bytes(&rendered.linear, setup.width, setup.height)?;
-        crate::atomic::write_atomic(&record::exr_path(&dir, frame), &exr)?;
+        crate::atomic::write_atomic(&names::exr_path(&dir, frame), &exr)?;
         exr_bytes = Some(exr.len() as u64);
     }
-    crate::atomic::write_atomic(&record::png_path(&dir, frame), &png)?;
+    crate::atomic::write_atomic(&names::png_path(&dir, frame), &png)?;
     FrameRecord {
         format: record::FRAME_RECORD_FORMAT.into(),
         frame,
@@ -418,16 +419,6 @@ fn write_frame(
     .save(&dir)
 }
 
-/// Encode packed RGB as PNG bytes (deterministic: fixed encoder settings).
-pub fn png_bytes(rgb: &[u8], width: u32, height: u32) -> Result<Vec<u8>> {
-    use image::ImageEncoder;
-    let mut out = Vec::new();
-    image::codecs::png::PngEncoder::new(&mut out)
-        .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
-        .context("cannot encode PNG")?;
-    Ok(out)
-}
-
 /// Error of a frame against the reference frame stored in `ref_dir`.
 fn measure(
     test: &RenderedFrame,
@@ -435,8 +426,8 @@ fn measure(
     frame: u32,
     setup: FrameSetup,
 ) -> Result<FrameError> {
-    let (ref_linear, w, h) = linear_frame::read_exr(&record::exr_path(ref_dir, frame))?;
-    let png_path = record::png_path(ref_dir, frame);
+    let (ref_linear, w, h) = linear_frame::read_exr(&names::exr_path(ref_dir, frame))?;
+    let png_path = names::png_path(ref_dir, frame);
     let ref_display = image::open(&png_path)
         .with_context(|| format!("cannot read reference frame {}", png_path.display()))?
         .to_rgb8();
@@ -489,12 +480,12 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
             if plan.measured(s) && rec.error.is_none() {
                 rec = measure_late(job, plan, job_dir, s, rec)?;
             }
-            let png = std::fs::read(record::png_path(&dir, f))?;
+            let png = std::fs::read(names::png_path(&dir, f))?;
             if record::sha256_hex(&png) != rec.png_sha256 {
                 bail!(
                     "{}: content differs from when it was rendered (corrupted?). Delete it \
                      and rerun the job to render it again",
-                    record::png_path(&dir, f).display()
+                    names::png_path(&dir, f).display()
                 );
             }
             hasher.add_frame(&png);
@@ -502,9 +493,9 @@ fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
             if let Some(e) = &rec.error {
                 acc.add(e);
             }
-            frame_paths.push(format!("{}/{}", spec.id, record::png_name(f)));
+            frame_paths.push(format!("{}/{}", spec.id, names::png_name(f)));
             if need_exr(job, plan, s) {
-                exr_paths.push(format!("{}/{}", spec.id, record::exr_name(f)));
+                exr_paths.push(format!("{}/{}", spec.id, names::exr_name(f)));
             }
         }
         super::lock::remove_stale_temporaries(&dir);
@@ -545,7 +536,7 @@ fn measure_late(
     let spec = &plan.specs[s];
     let dir = stimulus_dir(job_dir, spec);
     let f = rec.frame;
-    let exr = record::exr_path(&dir, f);
+    let exr = names::exr_path(&dir, f);
     let linear = match linear_frame::read_exr(&exr) {
         Ok((px, _, _)) => px,
         // Another finalizer may have measured it and removed the scratch file meanwhile.
@@ -554,7 +545,7 @@ fn measure_late(
             None => return Err(e),
         },
     };
-    let display = image::open(record::png_path(&dir, f))?.to_rgb8().into_raw();
+    let display = image::open(names::png_path(&dir, f))?.to_rgb8().into_raw();
     let frame = RenderedFrame { linear, display };
     let r = plan
         .reference_of(s)

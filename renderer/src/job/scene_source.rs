@@ -7,8 +7,9 @@
 //! milliseconds with it. `blurlab-scene/1` is a real scene ([`crate::scene`]), rendered by
 //! [`SceneSource`]; a file ending in `.scene` is a real scene in the thesis's block text.
 
-use super::source::{FrameSetup, FrameSource, RenderedFrame, SyntheticSource};
+use super::source::{FrameSetup, FrameSource, SyntheticSource};
 use super::{Job, Overrides, runner};
+use crate::film::RenderedFrame;
 use crate::sampling::SamplingConfig;
 use crate::scene::{SCENE_FORMAT, Scene};
 use anyhow::{Context, Result, bail};

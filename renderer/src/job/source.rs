@@ -3,6 +3,7 @@
 //! moving pattern, sampled through the real [`FrameSampler`], that lets the job machinery
 //! (expansion, resume, shards, metrics, reports) be tested in milliseconds.
 
+use crate::film::{RenderedFrame, srgb8};
 use crate::sampling::{FrameSampler, SamplingConfig};
 use anyhow::Result;
 
@@ -15,15 +16,6 @@ pub struct FrameSetup {
     pub fps: f64,
 }
 
-/// One rendered frame in both forms.
-#[derive(Clone, Debug)]
-pub struct RenderedFrame {
-    /// Linear HDR radiance after exposure, row-major.
-    pub linear: Vec<[f32; 3]>,
-    /// 8-bit sRGB display values, packed RGB, row-major.
-    pub display: Vec<u8>,
-}
-
 /// A scene as the runner sees it.
 pub trait FrameSource: Send + Sync {
     fn setup(&self) -> FrameSetup;
@@ -31,21 +23,6 @@ pub trait FrameSource: Send + Sync {
     fn render(&self, sampling: &SamplingConfig, seed: u64, frame: u32) -> Result<RenderedFrame>;
     /// The same scene at another size (for calibration renders).
     fn resized(&self, width: u32, height: u32) -> Result<Box<dyn FrameSource>>;
-}
-
-/// Tone mapping used by [`SyntheticSource`]: clamp then the sRGB transfer curve.
-pub fn srgb8(linear: f32) -> u8 {
-    let c = if linear.is_finite() {
-        linear.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let s = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
 }
 
 /// Bright stripes drifting right plus a small very bright spot (an HDR "highlight"), filtered

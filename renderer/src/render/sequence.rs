@@ -5,9 +5,9 @@
 use super::{FrameStats, render_frame};
 use crate::atomic::write_atomic;
 use crate::film::Film;
-use crate::job::frame_record::{exr_path, png_path};
-use crate::job::linear_frame::exr_bytes;
-use crate::job::runner::png_bytes;
+use crate::frame_io::exr::exr_bytes;
+use crate::frame_io::names::{exr_path, png_path};
+use crate::frame_io::png::png_bytes;
 use crate::sampling::SamplingConfig;
 use crate::scene::Scene;
 use anyhow::{Context, Result};

@@ -1,0 +1,50 @@
+//! The renderer's layers point one way (issue 15): `cli/` over `job/` and `convert` over
+//! everything else. Rendering one frame or one sequence (`render/`, `film`, `frame_io`, the
+//! scene, the tracer, sampling, the environment map) never reaches into the batch layer or
+//! the command line. This test reads the sources and fails on such an import.
+
+use std::path::{Path, PathBuf};
+
+/// Modules above the rest: they may import anything.
+const UPPER: &[&str] = &["job", "cli", "convert.rs", "main.rs", "lib.rs"];
+
+fn sources(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            sources(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+#[test]
+fn lower_layers_do_not_import_the_job_or_command_line_layers() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(&src).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if UPPER.contains(&name.as_str()) {
+            continue;
+        }
+        if path.is_dir() {
+            sources(&path, &mut files);
+        } else {
+            files.push(path);
+        }
+    }
+    assert!(files.len() > 40, "found only {} source files", files.len());
+    let mut upward = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if code.contains("crate::job") || code.contains("crate::cli") {
+                upward.push(format!("{}:{}: {}", file.display(), i + 1, line.trim()));
+            }
+        }
+    }
+    assert!(upward.is_empty(), "upward imports:\n{}", upward.join("\n"));
+}
