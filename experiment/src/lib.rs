@@ -16,6 +16,7 @@ pub mod layout;
 pub mod log;
 pub mod log_writer;
 pub mod observer;
+pub mod paths;
 pub mod predicted;
 pub mod preflight;
 pub mod presentation;
@@ -24,6 +25,8 @@ pub mod session;
 pub mod simulate;
 pub mod trials;
 
+#[cfg(feature = "gui")]
+pub use app::LaunchOptions;
 pub use design::Design;
 pub use observer::Observer;
 pub use session::{Session, Stage};
