@@ -2,6 +2,7 @@
 //! decorations, dithering off (stimulus pixels must reach the screen unchanged).
 
 mod loader;
+mod prefetch;
 mod screens;
 mod session_app;
 mod video_painter;
