@@ -9,6 +9,7 @@ pub mod app;
 pub mod cli;
 pub mod design;
 pub mod display;
+#[cfg(any(test, feature = "test-support"))]
 pub mod fixture;
 pub mod frames;
 pub mod keys;
