@@ -1,7 +1,8 @@
 //! Test support: binomial responses from known psychometric functions, as counts and as real
 //! session-log files, so the analysis can be checked against a known truth. (The experiment
-//! crate's simulated observers drive the real trial logger; this is a small independent
-//! generator that depends on nothing but the log format.)
+//! crate's simulated observers drive the real trial logger; this is a small generator that
+//! writes the log format directly. Its subjects answer with the experiment's observer function,
+//! `experiment::observer::p_correct`, with lapse 0.)
 //!
 //! Every response is a pure function of (seed, subject, scene, point set, level, repeat) through
 //! the counter-based hash.
@@ -11,6 +12,7 @@ use crate::psychometric::Model;
 use crate::sigmoid::Sigmoid;
 use anyhow::Result;
 use experiment::log::LOG_FORMAT;
+use experiment::observer::p_correct;
 use renderer::hash::{hash, name_id, unit_f64};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -88,7 +90,8 @@ impl StudySpec {
         format!("s{:02}", s + 1)
     }
 
-    /// The true model of one subject in one condition.
+    /// The true model of one subject in one condition (the fits' truth; the responses come
+    /// from the same logistic through `experiment::observer::p_correct`).
     pub fn model(&self, subject: usize, scene: usize, point_set: usize) -> Model {
         let offset = self.spread * (unit_f64(hash(self.seed, &[0x5b, subject as u64])) - 0.5);
         Model {
@@ -101,7 +104,8 @@ impl StudySpec {
     }
 
     fn correct(&self, subject: usize, scene: usize, ps: usize, level: u32, rep: u32) -> bool {
-        let p = self.model(subject, scene, ps).p((level as f64).ln());
+        let m = self.model(subject, scene, ps);
+        let p = p_correct(m.beta, m.lapse, m.alpha, (level as f64).ln());
         let h = hash(
             self.seed,
             &[
@@ -245,6 +249,25 @@ mod tests {
         assert_eq!(ds.groups, direct.groups);
         assert_eq!(ds.trials, 2 * 2 * 3 * 8 * 4);
         assert_eq!(ds.design_hash, "h1");
+    }
+
+    #[test]
+    fn the_observer_function_is_the_models_logistic_bit_for_bit() {
+        // Every subject, condition and level of the thesis study, and levels far beyond.
+        let spec = StudySpec::thesis();
+        for (s, sc, ps) in (0..spec.subjects)
+            .flat_map(|s| (0..2).flat_map(move |sc| (0..3).map(move |ps| (s, sc, ps))))
+        {
+            let m = spec.model(s, sc, ps);
+            for &level in spec.levels.iter().chain(&[2, 3, 1000, 100_000, u32::MAX]) {
+                let x = (level as f64).ln();
+                assert_eq!(
+                    p_correct(m.beta, m.lapse, m.alpha, x).to_bits(),
+                    m.p(x).to_bits(),
+                    "subject {s}, scene {sc}, point set {ps}, level {level}"
+                );
+            }
+        }
     }
 
     #[test]

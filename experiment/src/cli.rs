@@ -3,9 +3,10 @@
 
 use crate::design::Design;
 use crate::observer::Observer;
+use crate::paths::sessions_dir;
 use anyhow::Result;
 use clap::Args;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Run a subject's session in a full-screen window (continues an interrupted one).
 #[derive(Args, Clone, Debug)]
@@ -51,6 +52,25 @@ pub struct SimulateArgs {
     pub out: Option<PathBuf>,
 }
 
+impl RunArgs {
+    /// The library's options for these arguments.
+    #[cfg(feature = "gui")]
+    pub fn launch_options(&self) -> crate::app::LaunchOptions {
+        crate::app::LaunchOptions {
+            design: self.design.clone(),
+            subject: self.subject.clone(),
+            out: self.out.clone(),
+            windowed: self.windowed,
+            pacing: if self.no_vsync {
+                crate::app::Pacing::Timer
+            } else {
+                crate::app::Pacing::Vsync
+            },
+            check_hashes: !self.skip_hash_check,
+        }
+    }
+}
+
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once('x')
@@ -62,15 +82,6 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
             .ok_or_else(|| format!("{s:?}: expected positive whole pixel counts"))
     };
     Ok((n(w)?, n(h)?))
-}
-
-/// `results/<design name>/sessions` unless given.
-pub fn sessions_dir(out: Option<&Path>, design: &Design) -> PathBuf {
-    out.map(Path::to_path_buf).unwrap_or_else(|| {
-        PathBuf::from("results")
-            .join(design.name())
-            .join("sessions")
-    })
 }
 
 /// `simulate`: write one log per simulated subject and say where.
@@ -93,7 +104,7 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
 /// `run`: a subject's session in the window.
 #[cfg(feature = "gui")]
 pub fn run(args: RunArgs) -> Result<()> {
-    crate::app::launch(&args)
+    crate::app::launch(&args.launch_options())
 }
 
 /// `run` without the window: explain how to get it.

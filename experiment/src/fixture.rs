@@ -1,7 +1,9 @@
 //! Test support: a small real study on disk in milliseconds — synthetic scenes
 //! (`blurlab-synthetic/1`), a job rendered by the real job runner into a manifest with PNG
 //! frames, and a design file pointing at it. Used by this crate's tests, the GUI tests and the
-//! preload measurement; public so integration tests and other crates can use it too.
+//! preload measurement. Not part of the library's API: compiled for the crate's unit tests and
+//! with the `test-support` feature (which the crate's dev-dependency on itself turns on for its
+//! integration tests; other crates can turn it on the same way).
 
 use anyhow::{Context, Result};
 use renderer::job::{Job, RunOptions};

@@ -9,6 +9,7 @@ pub mod app;
 pub mod cli;
 pub mod design;
 pub mod display;
+#[cfg(any(test, feature = "test-support"))]
 pub mod fixture;
 pub mod frames;
 pub mod keys;
@@ -16,6 +17,7 @@ pub mod layout;
 pub mod log;
 pub mod log_writer;
 pub mod observer;
+pub mod paths;
 pub mod predicted;
 pub mod preflight;
 pub mod presentation;
@@ -24,6 +26,8 @@ pub mod session;
 pub mod simulate;
 pub mod trials;
 
+#[cfg(feature = "gui")]
+pub use app::LaunchOptions;
 pub use design::Design;
 pub use observer::Observer;
 pub use session::{Session, Stage};

@@ -242,11 +242,7 @@ impl Observer {
 
     /// Probability of a correct answer at `spp` for a subject whose threshold is `t`.
     pub fn p_correct(&self, t: f64, spp: f64) -> f64 {
-        let lapse = self.file.lapse;
-        let q = (TARGET - 0.5) / (0.5 - lapse);
-        let c = (q / (1.0 - q)).ln();
-        let z = self.file.slope * (t.ln() - spp.ln()) + c;
-        0.5 + (0.5 - lapse) * logistic(z)
+        p_correct(self.file.slope, self.file.lapse, t.ln(), spp.ln())
     }
 
     /// Probability that the subject answers `trial` correctly: the condition's function at
@@ -282,6 +278,17 @@ impl Observer {
             3 - trial.diff_pair
         })
     }
+}
+
+/// The observer's psychometric function in ln spp: the probability of a correct two-pair
+/// answer at `ln_spp` for a threshold `ln_threshold` (where p = [`TARGET`]), a `slope` per ln
+/// spp and a `lapse` rate (the formula at the top of this module). With lapse 0 this is the
+/// plain logistic 1/2 + 1/2 S(slope (ln T - ln spp)).
+pub fn p_correct(slope: f64, lapse: f64, ln_threshold: f64, ln_spp: f64) -> f64 {
+    let q = (TARGET - 0.5) / (0.5 - lapse);
+    let c = (q / (1.0 - q)).ln();
+    let z = slope * (ln_threshold - ln_spp) + c;
+    0.5 + (0.5 - lapse) * logistic(z)
 }
 
 fn logistic(z: f64) -> f64 {

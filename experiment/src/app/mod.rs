@@ -2,26 +2,61 @@
 //! decorations, dithering off (stimulus pixels must reach the screen unchanged).
 
 mod loader;
+mod prefetch;
 mod screens;
 mod session_app;
 mod video_painter;
 
 pub use session_app::{Pacing, SessionApp};
 
-use crate::cli::{RunArgs, sessions_dir};
 use crate::design::Design;
 use crate::log_writer::Durability;
+use crate::paths::sessions_dir;
 use crate::preflight::{PreflightOptions, preflight};
 use crate::session::Session;
 use anyhow::{Context, Result};
+use std::path::PathBuf;
+
+/// What [`launch`] needs: a subject's session of a design, and how to show it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LaunchOptions {
+    /// The design file (blurlab-design/1).
+    pub design: PathBuf,
+    /// The subject's id; names the log file `<subject>.jsonl`.
+    pub subject: String,
+    /// Folder of session logs; `None` (the default): `results/<design name>/sessions`.
+    pub out: Option<PathBuf>,
+    /// A window of this size in logical pixels instead of full screen; `None` (the default):
+    /// full screen.
+    pub windowed: Option<(u32, u32)>,
+    /// How repaints are paced; default [`Pacing::Vsync`].
+    pub pacing: Pacing,
+    /// Whether preflight checks the stimuli's content hashes; default `true`.
+    pub check_hashes: bool,
+}
+
+impl LaunchOptions {
+    /// A subject's session of `design` with every default: logs under
+    /// `results/<design name>/sessions`, full screen, vsync, content hashes checked.
+    pub fn new(design: impl Into<PathBuf>, subject: impl Into<String>) -> Self {
+        LaunchOptions {
+            design: design.into(),
+            subject: subject.into(),
+            out: None,
+            windowed: None,
+            pacing: Pacing::Vsync,
+            check_hashes: true,
+        }
+    }
+}
 
 /// `run`: preflight, open (or continue) the subject's log, then the window.
-pub fn launch(args: &RunArgs) -> Result<()> {
+pub fn launch(args: &LaunchOptions) -> Result<()> {
     let design = Design::load(&args.design)?;
     let report = preflight(
         &design,
         PreflightOptions {
-            check_hashes: !args.skip_hash_check,
+            check_hashes: args.check_hashes,
             progress: true,
         },
     );
@@ -44,11 +79,7 @@ pub fn launch(args: &RunArgs) -> Result<()> {
         );
         return Ok(());
     }
-    let pacing = if args.no_vsync {
-        Pacing::Timer
-    } else {
-        Pacing::Vsync
-    };
+    let pacing = args.pacing;
     let mut app = SessionApp::new(session, manifest, manifest_path, pacing);
     app.cover_monitor(args.windowed.is_none());
     let summary = app.summary();

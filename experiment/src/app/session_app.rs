@@ -2,22 +2,22 @@
 //! [`SessionApp::show`] draws one repaint from it, so eframe (the real window) and egui_kittest
 //! (the tests) drive the very same code. Time comes from egui's input clock only.
 
-use super::loader::{LoadState, Loader, Video};
+mod trial;
+
+use super::prefetch::VideoCache;
 use super::screens;
-use super::video_painter::{self, Screen};
-use crate::frames::VideoSource;
+use super::video_painter::Screen;
 use crate::layout::VideoLayout;
 use crate::log::Display;
-use crate::presentation::{Presentation, View};
+use crate::presentation::Presentation;
 use crate::refresh::RefreshMeter;
 use crate::session::{Session, Stage, StartInfo};
-use crate::trials::Trial;
 use egui::{Color32, Key, RichText, ViewportCommand};
 use renderer::manifest::Manifest;
-use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Duration;
+use trial::TrialView;
 
 /// How the window paces repaints.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,26 +30,12 @@ pub enum Pacing {
 
 /// How long practice feedback stays up, seconds.
 const FEEDBACK_SECONDS: f64 = 1.0;
-/// Upload time per repaint while loading (keeps the progress bar alive).
-const UPLOAD_BUDGET: Duration = Duration::from_millis(12);
-
-/// The trial being shown: loading, then its presentation.
-struct TrialView {
-    stage: Stage,
-    trial: Trial,
-    loader: Option<Loader>,
-    presentation: Option<Presentation>,
-    preload_ms: f64,
-    pauses: u32,
-    /// When the trial became current (its preload time is the wait from here).
-    began: Instant,
-}
 
 /// The app's state.
 pub struct SessionApp {
     session: Session,
-    manifest: Manifest,
-    manifest_path: PathBuf,
+    /// The decoded videos and the prefetch of the next trial's.
+    cache: VideoCache,
     pacing: Pacing,
     pair1: Vec<Key>,
     pair2: Vec<Key>,
@@ -58,10 +44,6 @@ pub struct SessionApp {
     /// egui time when the session (header or resume line) started: log times count from here.
     origin: Option<f64>,
     view: Option<TrialView>,
-    /// Decoded videos by stimulus id (those of the current trial).
-    videos: HashMap<String, Video>,
-    /// The next trial's videos, loading while the subject answers: (practice, index) and loader.
-    prefetch: Option<((bool, u32), Loader)>,
     paused_at: Option<f64>,
     feedback: Option<(bool, f64)>,
     fatal: Option<String>,
@@ -94,14 +76,11 @@ impl SessionApp {
             pair2: keys(&d.keys.pair2),
             background: Color32::from_rgb(r, g, b),
             session,
-            manifest,
-            manifest_path,
+            cache: VideoCache::new(manifest, manifest_path),
             pacing,
             meter: RefreshMeter::default(),
             origin: None,
             view: None,
-            videos: HashMap::new(),
-            prefetch: None,
             paused_at: None,
             feedback: None,
             fatal: None,
@@ -172,7 +151,7 @@ impl SessionApp {
 
     /// Whether the next trial's videos are still being loaded in advance.
     pub fn prefetching(&self) -> bool {
-        self.prefetch.as_ref().is_some_and(|(_, l)| !l.is_done())
+        self.cache.prefetching()
     }
 
     pub fn paused(&self) -> bool {
@@ -375,7 +354,7 @@ impl SessionApp {
     fn check_fits(&self, screen: Screen) -> anyhow::Result<()> {
         let d = &self.session.design().file;
         for n in crate::preflight::needed_stimuli(self.session.design()) {
-            if let Some(s) = self.manifest.get(&n.id) {
+            if let Some(s) = self.cache.manifest().get(&n.id) {
                 VideoLayout::new(
                     d.layout,
                     (screen.width, screen.height),
@@ -385,249 +364,6 @@ impl SessionApp {
             }
         }
         Ok(())
-    }
-
-    fn trial(&mut self, ui: &mut egui::Ui, now: f64) {
-        let ctx = ui.ctx().clone();
-        let stage = self.session.stage();
-        if self.view.as_ref().is_none_or(|v| v.stage != stage) {
-            match self.begin_trial(stage) {
-                Ok(v) => self.view = Some(v),
-                Err(e) => {
-                    self.fatal = Some(format!("{e:#}"));
-                    return;
-                }
-            }
-        }
-        let Some(view) = self.view.as_mut() else {
-            return;
-        };
-        if let Some(loader) = view.loader.as_mut() {
-            match loader.pump(&ctx, UPLOAD_BUDGET) {
-                LoadState::Loading { fraction } => {
-                    screens::progress(ui, "Loading the next videos...", fraction);
-                    ctx.request_repaint();
-                    return;
-                }
-                LoadState::Failed(e) => {
-                    self.fatal = Some(format!("cannot load a video: {e}"));
-                    return;
-                }
-                LoadState::Done => {
-                    view.preload_ms = view.began.elapsed().as_secs_f64() * 1000.0;
-                    let loader = view.loader.take().expect("loader present");
-                    for v in loader.into_videos() {
-                        self.videos.insert(v.source.id.clone(), v);
-                    }
-                }
-            }
-        }
-        let view = self.view.as_mut().expect("view present");
-        if view.presentation.is_none() {
-            let r = &self.videos[&view.trial.reference_stimulus].source;
-            view.presentation = Some(Presentation::new(self.session.design(), r.frames(), r.fps));
-        }
-        let t = now - self.origin.unwrap_or(now);
-        let presentation = view.presentation.as_mut().expect("presentation present");
-        let shown = presentation.tick(t);
-        let next_change = presentation.next_change(t);
-        let screen = Screen::of(&ctx);
-        match shown {
-            View::Fixation => {
-                screens::fixation(ui);
-                let textures = view
-                    .trial
-                    .stimuli()
-                    .into_iter()
-                    .filter_map(|id| self.videos.get(id))
-                    .flat_map(|v| v.textures.iter());
-                video_painter::warm_up(ui.painter(), screen, textures, self.background);
-            }
-            View::Play { pairs, frame } => {
-                let d = &self.session.design().file;
-                let r = &self.videos[&view.trial.reference_stimulus].source;
-                match VideoLayout::new(
-                    d.layout,
-                    (screen.width, screen.height),
-                    (r.width, r.height),
-                    d.playback.spacing_px,
-                ) {
-                    Ok(layout) => video_painter::draw_pairs(
-                        ui.painter(),
-                        screen,
-                        &layout,
-                        &view.trial,
-                        pairs,
-                        frame,
-                        &self.videos,
-                    ),
-                    Err(e) => self.fatal = Some(format!("{e:#}")),
-                }
-            }
-            View::Gap => {}
-            View::Respond => {
-                self.respond(ui, now);
-                return;
-            }
-        }
-        match (self.pacing, next_change) {
-            (Pacing::Vsync, _) => ctx.request_repaint(),
-            (Pacing::Timer, Some(s)) => ctx.request_repaint_after(Duration::from_secs_f64(s)),
-            (Pacing::Timer, None) => {}
-        }
-    }
-
-    /// Set up a trial's view, taking over the prefetch of its videos if there is one.
-    fn begin_trial(&mut self, stage: Stage) -> anyhow::Result<TrialView> {
-        let began = Instant::now();
-        let trial = self
-            .session
-            .trial()
-            .ok_or_else(|| anyhow::anyhow!("no trial at stage {stage:?}"))?
-            .clone();
-        let loader = match self.prefetch.take() {
-            Some((key, loader)) if key == (trial.practice, trial.index) => loader,
-            _ => self.loader_for(&trial)?,
-        };
-        Ok(TrialView {
-            stage,
-            trial,
-            loader: Some(loader),
-            presentation: None,
-            preload_ms: 0.0,
-            pauses: 0,
-            began,
-        })
-    }
-
-    /// Free the videos `trial` does not show and start loading those it needs.
-    fn loader_for(&mut self, trial: &Trial) -> anyhow::Result<Loader> {
-        let needed = trial.stimuli();
-        self.videos.retain(|id, _| needed.contains(&id.as_str()));
-        let mut missing: Vec<VideoSource> = Vec::new();
-        for id in needed {
-            if !self.videos.contains_key(id) && !missing.iter().any(|s| s.id == id) {
-                missing.push(VideoSource::from_manifest(
-                    &self.manifest,
-                    &self.manifest_path,
-                    id,
-                )?);
-            }
-        }
-        Ok(Loader::start(missing))
-    }
-
-    /// Once a presentation is over, load the next trial's videos while the subject answers
-    /// (never during playback, where decoding would compete with frame pacing).
-    fn start_prefetch(&mut self) {
-        if self.prefetch.is_some() {
-            return;
-        }
-        let Some(next) = self.session.next_trial().cloned() else {
-            return;
-        };
-        // A failure here is reported when the trial itself starts.
-        if let Ok(loader) = self.loader_for(&next) {
-            self.prefetch = Some(((next.practice, next.index), loader));
-        }
-    }
-
-    /// Upload prefetched frames a few at a time while nothing moves on screen.
-    fn pump_prefetch(&mut self, ctx: &egui::Context) {
-        let presenting = self
-            .view
-            .as_ref()
-            .and_then(|v| v.presentation.as_ref())
-            .is_some_and(|p| !p.responding());
-        if presenting {
-            return;
-        }
-        if let Some((_, loader)) = self.prefetch.as_mut() {
-            match loader.pump(ctx, UPLOAD_BUDGET) {
-                LoadState::Loading { .. } => ctx.request_repaint(),
-                LoadState::Done => {}
-                LoadState::Failed(_) => self.prefetch = None,
-            }
-        }
-    }
-
-    fn respond(&mut self, ui: &mut egui::Ui, now: f64) {
-        let ctx = ui.ctx().clone();
-        self.start_prefetch();
-        let (first, second) = match self.session.design().file.layout {
-            crate::design::Layout::Sequential => ("first", "second"),
-            crate::design::Layout::Grid => ("top", "bottom"),
-        };
-        let mut response = None;
-        screens::centered(ui, |ui| {
-            ui.label(
-                RichText::new(format!(
-                    "Which pair was different, the {first} or the {second}?"
-                ))
-                .size(24.0)
-                .color(screens::TEXT),
-            );
-            ui.add_space(24.0);
-            ui.horizontal(|ui| {
-                let w = 2.0 * 160.0 + ui.spacing().item_spacing.x;
-                ui.add_space(((ui.available_width() - w) / 2.0).max(0.0));
-                for (n, label) in [(1u8, "Pair 1"), (2, "Pair 2")] {
-                    let b = egui::Button::new(RichText::new(label).size(22.0))
-                        .min_size(egui::vec2(160.0, 56.0));
-                    if ui.add(b).clicked() {
-                        response = Some(n);
-                    }
-                }
-            });
-            ui.add_space(18.0);
-            let k = &self.session.design().file.keys;
-            ui.label(
-                RichText::new(format!(
-                    "Keys: {} for pair 1, {} for pair 2",
-                    crate::keys::describe(&k.pair1),
-                    crate::keys::describe(&k.pair2)
-                ))
-                .size(18.0)
-                .color(screens::HINT),
-            );
-        });
-        ctx.input(|i| {
-            if self.pair1.iter().any(|&k| i.key_pressed(k)) {
-                response = Some(1);
-            } else if self.pair2.iter().any(|&k| i.key_pressed(k)) {
-                response = Some(2);
-            }
-        });
-        if let Some(r) = response {
-            self.answer(&ctx, r, now);
-        }
-    }
-
-    fn answer(&mut self, ctx: &egui::Context, response: u8, now: f64) {
-        let Some(view) = self.view.take() else {
-            return;
-        };
-        let t = now - self.origin.unwrap_or(now);
-        let timing = view
-            .presentation
-            .as_ref()
-            .map(|p| p.timing(t, view.pauses, view.preload_ms))
-            .unwrap_or_default();
-        match self.session.answer(response, timing) {
-            Ok(a) => {
-                if a.practice && self.session.design().file.practice.feedback {
-                    self.feedback = Some((a.correct, now + FEEDBACK_SECONDS));
-                }
-                self.update_summary();
-            }
-            Err(e) => {
-                self.fatal = Some(format!(
-                    "the answer could not be saved: {e:#}. Answers before this trial are in the \
-                     log; fix the problem and run the same command to continue."
-                ))
-            }
-        }
-        ctx.request_repaint();
     }
 }
 
