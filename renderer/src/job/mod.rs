@@ -6,7 +6,9 @@
 //! `stimuli/<job>/`, optionally split into shards ([`shard`]). The thesis's own seven-line text
 //! (Figure 12, `.job`) reads into the same [`JobFile`] ([`line_format`]).
 
+pub mod dry_run;
 pub mod expand;
+pub mod finalize;
 pub mod frame_record;
 pub mod line_format;
 pub mod lock;
@@ -16,8 +18,9 @@ pub mod shard;
 pub mod slurm;
 pub mod source;
 
+pub use dry_run::{DryRun, dry_run_with_sources, human_seconds};
 pub use expand::{StimulusSpec, expand};
-pub use runner::{DryRun, Finalize, RunOptions, RunReport, dry_run_with_sources, run_with_sources};
+pub use runner::{Finalize, RunOptions, RunReport, run_with_sources};
 pub use scene_source::{dry_run, run};
 pub use shard::Shard;
 

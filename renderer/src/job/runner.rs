@@ -7,16 +7,18 @@
 //! Resume is per frame: a frame counts as done when its record exists and the files it names
 //! have the recorded sizes; everything else is rendered again. Every file is written to a
 //! temporary name and renamed, so an interrupted run leaves whole files or none.
+//! Finishing a job (late measurements, content checks, the manifest) is [`super::finalize`];
+//! counting and estimating without rendering is [`super::dry_run`].
 
 use super::expand::StimulusSpec;
+use super::finalize::{finalize_job, measure};
 use super::frame_record::{self as record, FrameRecord};
 use super::shard::{self, Shard, Unit};
 use super::source::{FrameSetup, FrameSource};
 use super::{Job, expand};
 use crate::film::RenderedFrame;
 use crate::frame_io::{exr as linear_frame, names, png::png_bytes};
-use crate::manifest::{self, Manifest};
-use crate::metrics::{ErrorAccumulator, FrameError};
+use crate::manifest::Manifest;
 use crate::sampling::SamplingConfig;
 use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
@@ -140,7 +142,7 @@ impl Plan {
 
     /// The stimulus that stimulus `i` is measured against, unless it has none to be measured
     /// against (an independent reference, or its own reference).
-    fn reference_of(&self, i: usize) -> Option<usize> {
+    pub(super) fn reference_of(&self, i: usize) -> Option<usize> {
         let spec = &self.specs[i];
         if spec.own_reference() {
             return None;
@@ -150,7 +152,7 @@ impl Plan {
     }
 
     /// Whether stimulus `i`'s frames get an error against a reference.
-    fn measured(&self, i: usize) -> bool {
+    pub(super) fn measured(&self, i: usize) -> bool {
         self.reference_of(i).is_some()
     }
 }
@@ -204,13 +206,13 @@ pub fn run_with_sources(
     Ok(report)
 }
 
-fn stimulus_dir(job_dir: &Path, spec: &StimulusSpec) -> PathBuf {
+pub(super) fn stimulus_dir(job_dir: &Path, spec: &StimulusSpec) -> PathBuf {
     job_dir.join(&spec.id)
 }
 
 /// Whether stimulus `s` keeps EXR frames: references (to measure others against) and, on
 /// request, every stimulus.
-fn need_exr(job: &Job, plan: &Plan, s: usize) -> bool {
+pub(super) fn need_exr(job: &Job, plan: &Plan, s: usize) -> bool {
     plan.serves_as_reference[s] || job.keep_exr()
 }
 
@@ -419,36 +421,6 @@ fn write_frame(
     .save(&dir)
 }
 
-/// Error of a frame against the reference frame stored in `ref_dir`.
-fn measure(
-    test: &RenderedFrame,
-    ref_dir: &Path,
-    frame: u32,
-    setup: FrameSetup,
-) -> Result<FrameError> {
-    let (ref_linear, w, h) = linear_frame::read_exr(&names::exr_path(ref_dir, frame))?;
-    let png_path = names::png_path(ref_dir, frame);
-    let ref_display = image::open(&png_path)
-        .with_context(|| format!("cannot read reference frame {}", png_path.display()))?
-        .to_rgb8();
-    if (w, h) != (setup.width, setup.height) || ref_display.dimensions() != (w, h) {
-        bail!(
-            "reference frame {} is {w}x{h}, the stimulus {}x{}",
-            png_path.display(),
-            setup.width,
-            setup.height
-        );
-    }
-    FrameError::measure(
-        &test.linear,
-        &ref_linear,
-        &test.display,
-        ref_display.as_raw(),
-        w,
-        h,
-    )
-}
-
 /// Every (stimulus, frame) of the job not complete on disk.
 fn missing_frames(job: &Job, plan: &Plan, job_dir: &Path) -> Vec<(usize, u32)> {
     let mut out = Vec::new();
@@ -461,245 +433,4 @@ fn missing_frames(job: &Job, plan: &Plan, job_dir: &Path) -> Vec<(usize, u32)> {
         }
     }
     out
-}
-
-/// Measure what is left to measure, check every frame's content, and write the manifest.
-fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
-    let mut m = Manifest::new(&job.name);
-    for (s, spec) in plan.specs.iter().enumerate() {
-        let setup = plan.setups[s];
-        let dir = stimulus_dir(job_dir, spec);
-        let mut hasher = manifest::ContentHash::new();
-        let mut seconds = 0.0;
-        let mut acc = ErrorAccumulator::default();
-        let mut frame_paths = Vec::new();
-        let mut exr_paths = Vec::new();
-        for f in 0..setup.frames {
-            let mut rec = record::completed(&dir, f, need_exr(job, plan, s))
-                .with_context(|| format!("{} frame {f} disappeared", spec.id))?;
-            if plan.measured(s) && rec.error.is_none() {
-                rec = measure_late(job, plan, job_dir, s, rec)?;
-            }
-            let png = std::fs::read(names::png_path(&dir, f))?;
-            if record::sha256_hex(&png) != rec.png_sha256 {
-                bail!(
-                    "{}: content differs from when it was rendered (corrupted?). Delete it \
-                     and rerun the job to render it again",
-                    names::png_path(&dir, f).display()
-                );
-            }
-            hasher.add_frame(&png);
-            seconds += rec.render_seconds;
-            if let Some(e) = &rec.error {
-                acc.add(e);
-            }
-            frame_paths.push(format!("{}/{}", spec.id, names::png_name(f)));
-            if need_exr(job, plan, s) {
-                exr_paths.push(format!("{}/{}", spec.id, names::exr_name(f)));
-            }
-        }
-        super::lock::remove_stale_temporaries(&dir);
-        m.stimuli.push(manifest::Stimulus {
-            id: spec.id.clone(),
-            scene: spec.scene.clone(),
-            point_set: spec.sampling.point_set.clone(),
-            time_filter: spec.sampling.time_filter.clone(),
-            spp: spec.sampling.spp,
-            reference: spec.reference,
-            reference_id: spec.reference_id.clone(),
-            seed: spec.seed,
-            width: setup.width,
-            height: setup.height,
-            frames: setup.frames,
-            fps: setup.fps,
-            frame_paths,
-            exr_paths,
-            content_hash: hasher.finish(),
-            render_seconds: seconds,
-            error: if plan.measured(s) { acc.finish() } else { None },
-        });
-    }
-    m.save(job_dir)?;
-    // Hand back what readers will see: serde_json's default float parsing may differ from the
-    // written value in the last bit.
-    Manifest::load(job_dir)
-}
-
-/// Measure a frame rendered before its reference existed, from its scratch EXR.
-fn measure_late(
-    job: &Job,
-    plan: &Plan,
-    job_dir: &Path,
-    s: usize,
-    mut rec: FrameRecord,
-) -> Result<FrameRecord> {
-    let spec = &plan.specs[s];
-    let dir = stimulus_dir(job_dir, spec);
-    let f = rec.frame;
-    let exr = names::exr_path(&dir, f);
-    let linear = match linear_frame::read_exr(&exr) {
-        Ok((px, _, _)) => px,
-        // Another finalizer may have measured it and removed the scratch file meanwhile.
-        Err(e) => match FrameRecord::load(&dir, f).filter(|r| r.error.is_some()) {
-            Some(r) => return Ok(r),
-            None => return Err(e),
-        },
-    };
-    let display = image::open(names::png_path(&dir, f))?.to_rgb8().into_raw();
-    let frame = RenderedFrame { linear, display };
-    let r = plan
-        .reference_of(s)
-        .context("a measured stimulus has a reference")?;
-    let ref_dir = stimulus_dir(job_dir, &plan.specs[r]);
-    rec.error = Some(measure(&frame, &ref_dir, f, plan.setups[s])?);
-    let scratch = !need_exr(job, plan, s);
-    if scratch {
-        rec.exr_bytes = None;
-    }
-    rec.save(&dir)?;
-    if scratch {
-        let _ = std::fs::remove_file(&exr);
-    }
-    Ok(rec)
-}
-
-/// Counts and a time estimate for a job, without rendering it.
-#[derive(Clone, Debug)]
-pub struct DryRun {
-    pub stimuli: usize,
-    pub references: usize,
-    pub frames: u64,
-    /// Camera samples (pixels x spp x frames) over all stimuli.
-    pub samples: u64,
-    pub units: usize,
-    /// Units of the requested shard.
-    pub shard_units: usize,
-    pub shard_samples: u64,
-    /// Per scene: name, measured seconds per camera sample, seconds per frame of overhead
-    /// (encoding, metrics).
-    pub calibration: Vec<(String, f64, f64)>,
-    /// Estimated wall-clock seconds for the whole job / this shard on this machine.
-    pub estimated_seconds: f64,
-    pub estimated_shard_seconds: f64,
-}
-
-/// Count the job's work and estimate its time from a short calibration render of each scene
-/// (a 96x96 middle frame at 8 spp, best of two, plus one full-size frame's encoding and
-/// metrics).
-pub fn dry_run_with_sources(
-    job: &Job,
-    sources: &[Box<dyn FrameSource>],
-    shard: Shard,
-) -> Result<DryRun> {
-    let plan = Plan::new(job, sources)?;
-    let mine = shard::assign(&plan.units, shard);
-    let mut calibration = Vec::new();
-    for (scene, src) in job.scenes.iter().zip(sources) {
-        let (per_sample, per_frame) = calibrate(src.as_ref(), &job.heaviest_sampling())?;
-        calibration.push((scene.name.clone(), per_sample, per_frame));
-    }
-    let unit_seconds = |u: &Unit| {
-        let (_, per_sample, per_frame) = &calibration[plan.specs[u.stimulus].scene_index];
-        u.cost as f64 * per_sample + u.frames.len() as f64 * per_frame
-    };
-    Ok(DryRun {
-        stimuli: plan.specs.len(),
-        references: plan.specs.iter().filter(|s| s.reference).count(),
-        frames: plan.setups.iter().map(|s| s.frames as u64).sum(),
-        samples: plan.units.iter().map(|u| u.cost).sum(),
-        units: plan.units.len(),
-        shard_units: mine.len(),
-        shard_samples: mine.iter().map(|&u| plan.units[u].cost).sum(),
-        estimated_seconds: plan.units.iter().map(unit_seconds).sum(),
-        estimated_shard_seconds: mine.iter().map(|&u| unit_seconds(&plan.units[u])).sum(),
-        calibration,
-    })
-}
-
-fn calibrate(src: &dyn FrameSource, reference: &SamplingConfig) -> Result<(f64, f64)> {
-    const SIZE: u32 = 96;
-    const SPP: u32 = 8;
-    let setup = src.setup();
-    let small = src.resized(SIZE, SIZE)?;
-    // Joint density: a reference's density split need not divide the calibration's 8 spp.
-    let cfg = SamplingConfig {
-        spp: SPP,
-        density: Some(crate::sampling::Density::Joint),
-        ..reference.clone()
-    };
-    let mid = setup.frames / 2;
-    let mut best = f64::INFINITY;
-    for _ in 0..2 {
-        let t = Instant::now();
-        small.render(&cfg, 1, mid)?;
-        best = best.min(t.elapsed().as_secs_f64());
-    }
-    let per_sample = best / (SIZE * SIZE * SPP) as f64;
-    // Per-frame work besides tracing: PNG and EXR encoding and the metrics, at full size.
-    let n = setup.width as usize * setup.height as usize;
-    let frame = RenderedFrame {
-        linear: (0..n).map(|i| [(i % 7) as f32 * 0.3, 0.5, 2.0]).collect(),
-        display: (0..3 * n).map(|i| (i * 31 % 251) as u8).collect(),
-    };
-    let other: Vec<u8> = frame.display.iter().map(|v| v.wrapping_add(3)).collect();
-    let t = Instant::now();
-    png_bytes(&frame.display, setup.width, setup.height)?;
-    linear_frame::exr_bytes(&frame.linear, setup.width, setup.height)?;
-    FrameError::measure(
-        &frame.linear,
-        &frame.linear,
-        &frame.display,
-        &other,
-        setup.width,
-        setup.height,
-    )?;
-    Ok((per_sample, t.elapsed().as_secs_f64()))
-}
-
-impl std::fmt::Display for DryRun {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        writeln!(
-            f,
-            "{} stimuli ({} references), {} frames, {:.3e} camera samples, {} units of work",
-            self.stimuli, self.references, self.frames, self.samples as f64, self.units
-        )?;
-        for (scene, per_sample, per_frame) in &self.calibration {
-            writeln!(
-                f,
-                "calibration {scene}: {:.0} samples/s, {:.3} s per frame for encoding and metrics",
-                1.0 / per_sample.max(1e-12),
-                per_frame
-            )?;
-        }
-        writeln!(
-            f,
-            "estimated time on this machine: {}",
-            human_seconds(self.estimated_seconds)
-        )?;
-        if self.shard_units != self.units {
-            writeln!(
-                f,
-                "this shard: {} units, {:.3e} samples, about {}",
-                self.shard_units,
-                self.shard_samples as f64,
-                human_seconds(self.estimated_shard_seconds)
-            )?;
-        }
-        Ok(())
-    }
-}
-
-/// `3h 05m`, `4m 10s`, `12.3 s`.
-pub fn human_seconds(s: f64) -> String {
-    if !s.is_finite() {
-        return "unknown".into();
-    }
-    let whole = s.round() as u64;
-    if whole >= 3600 {
-        format!("{}h {:02}m ({s:.0} s)", whole / 3600, whole % 3600 / 60)
-    } else if whole >= 60 {
-        format!("{}m {:02}s", whole / 60, whole % 60)
-    } else {
-        format!("{s:.1} s")
-    }
 }

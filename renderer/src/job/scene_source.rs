@@ -193,9 +193,9 @@ pub fn run(job: &Job, opts: &runner::RunOptions) -> Result<runner::RunReport> {
     runner::run_with_sources(job, &load_sources(job)?, opts)
 }
 
-/// Count a job's work and estimate its time; see [`runner::dry_run_with_sources`].
-pub fn dry_run(job: &Job, shard: super::Shard) -> Result<runner::DryRun> {
-    runner::dry_run_with_sources(job, &load_sources(job)?, shard)
+/// Count a job's work and estimate its time; see [`super::dry_run_with_sources`].
+pub fn dry_run(job: &Job, shard: super::Shard) -> Result<super::DryRun> {
+    super::dry_run_with_sources(job, &load_sources(job)?, shard)
 }
 
 #[cfg(test)]
