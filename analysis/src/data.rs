@@ -290,20 +290,11 @@ impl Dataset {
 
     /// Aggregate already-read logs (see [`Dataset::read`] for the checks).
     pub fn from_logs(logs: &[SessionLog]) -> Result<Self> {
-        Self::from_logs_checked(logs, None, false)
+        Self::from_logs_against(logs, None, None, false)
     }
 
-    /// [`Dataset::from_logs`] with the checks of [`Dataset::read_checked`].
-    pub fn from_logs_checked(
-        logs: &[SessionLog],
-        design: Option<&Design>,
-        lenient: bool,
-    ) -> Result<Self> {
-        Self::from_logs_against(logs, design, None, lenient)
-    }
-
-    /// [`Dataset::from_logs_checked`], with the trials' stimuli also checked against the
-    /// design's `manifest`.
+    /// [`Dataset::from_logs`] with the checks of [`Dataset::read_checked`]: every main trial,
+    /// against `design` and its `manifest` when given; `lenient` leaves failing trials out.
     pub fn from_logs_against(
         logs: &[SessionLog],
         design: Option<&Design>,

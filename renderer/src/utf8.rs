@@ -29,7 +29,7 @@ pub fn decode(path: &Path, bytes: Vec<u8>, what: &str) -> Result<String> {
 
 /// "a" or "an", to go before `noun`.
 pub fn article(noun: &str) -> &'static str {
-    if noun.starts_with(['a', 'e', 'i', 'o', 'u', 'O']) {
+    if noun.starts_with(['a', 'e', 'i', 'o', 'u']) {
         "an"
     } else {
         "a"

@@ -311,37 +311,11 @@ fn render_units(
     // With more than one rayon thread, frame k's files are encoded, measured and written on a
     // writer thread while frame k + 1 is traced. The writer takes frames in order, so what it
     // finds on disk (a reference frame, say) is what the serial loop would have found.
-    if rayon::current_num_threads() <= 1 {
-        for (n, &(s, f)) in todo.iter().enumerate() {
-            let (rendered, seconds) = render(n, s, f)?;
-            write_frame(job, plan, job_dir, s, f, &rendered, seconds)?;
-        }
-    } else {
-        let (send, receive) = std::sync::mpsc::sync_channel::<(usize, u32, RenderedFrame, f64)>(1);
-        std::thread::scope(|threads| -> Result<()> {
-            let writer = threads.spawn(move || -> Result<()> {
-                for (s, f, rendered, seconds) in receive {
-                    write_frame(job, plan, job_dir, s, f, &rendered, seconds)?;
-                }
-                Ok(())
-            });
-            let rendered = (|| -> Result<()> {
-                for (n, &(s, f)) in todo.iter().enumerate() {
-                    let (rendered, seconds) = render(n, s, f)?;
-                    if send.send((s, f, rendered, seconds)).is_err() {
-                        // The writer stopped on an error, which its join below returns.
-                        break;
-                    }
-                }
-                Ok(())
-            })();
-            drop(send);
-            let written = writer
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-            written.and(rendered)
-        })?;
-    }
+    crate::render::pipeline::make_and_write(
+        todo.iter().copied(),
+        |n, (s, f)| Ok((s, f, render(n, s, f)?)),
+        |(s, f, (rendered, seconds))| write_frame(job, plan, job_dir, s, f, &rendered, seconds),
+    )?;
     bar.finish_and_clear();
     Ok(())
 }

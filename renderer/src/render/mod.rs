@@ -3,6 +3,7 @@
 //! (seed, frame) and the pixel, and its samples are summed in a fixed order, so the bytes are
 //! the same whatever the thread count or the order tiles finish in.
 
+pub mod pipeline;
 pub mod sequence;
 
 use crate::accel::World;

@@ -64,37 +64,11 @@ pub fn render_sequence(
         report.frames += 1;
         Ok(film)
     };
-    if rayon::current_num_threads() <= 1 {
-        for (n, frame) in opts.frames.clone().enumerate() {
-            let film = render(n, frame)?;
-            write_frame(scene, opts, frame, &film)?;
-        }
-    } else {
-        let (send, receive) = std::sync::mpsc::sync_channel::<(u32, Film)>(1);
-        std::thread::scope(|threads| -> Result<()> {
-            let writer = threads.spawn(move || -> Result<()> {
-                for (frame, film) in receive {
-                    write_frame(scene, opts, frame, &film)?;
-                }
-                Ok(())
-            });
-            let rendered = (|| -> Result<()> {
-                for (n, frame) in opts.frames.clone().enumerate() {
-                    let film = render(n, frame)?;
-                    if send.send((frame, film)).is_err() {
-                        // The writer stopped on an error, which its join below returns.
-                        break;
-                    }
-                }
-                Ok(())
-            })();
-            drop(send);
-            let written = writer
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-            written.and(rendered)
-        })?;
-    }
+    super::pipeline::make_and_write(
+        opts.frames.clone(),
+        |n, frame| Ok((frame, render(n, frame)?)),
+        |(frame, film)| write_frame(scene, opts, frame, &film),
+    )?;
     bar.finish_and_clear();
     Ok(report)
 }

@@ -235,6 +235,26 @@ mod tests {
             .collect()
     }
 
+    /// Every sample of a `side` x `side` frame (seed 12, frame 3), rows drawn in parallel on
+    /// a pool of `threads`: the same as [`all_samples`] whatever the thread count.
+    fn parallel_samples(cfg: &SamplingConfig, side: u32, threads: usize) -> Vec<PixelSample> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let s = FrameSampler::new(cfg, 12, 3).unwrap();
+            let spp = s.spp();
+            (0..side)
+                .into_par_iter()
+                .flat_map_iter(|y| {
+                    let s = &s;
+                    (0..side).flat_map(move |x| (0..spp).map(move |i| s.sample(x, y, i)))
+                })
+                .collect()
+        })
+    }
+
     #[test]
     fn samples_are_finite_and_in_range_for_every_set_and_filter() {
         for set in ALL {
@@ -318,24 +338,8 @@ mod tests {
     #[test]
     fn samples_do_not_depend_on_the_thread_count() {
         let cfg = config("sobol", 16, "triangle");
-        let render = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let s = FrameSampler::new(&cfg, 12, 3).unwrap();
-                (0..32u32)
-                    .into_par_iter()
-                    .flat_map_iter(|y| {
-                        let s = &s;
-                        (0..32u32).flat_map(move |x| (0..16).map(move |i| s.sample(x, y, i)))
-                    })
-                    .collect::<Vec<_>>()
-            })
-        };
-        let one = render(1);
-        assert_eq!(one, render(3));
+        let one = parallel_samples(&cfg, 32, 1);
+        assert_eq!(one, parallel_samples(&cfg, 32, 3));
         let serial = all_samples(&FrameSampler::new(&cfg, 12, 3).unwrap(), 32, 32);
         assert_eq!(one, serial);
     }
@@ -552,24 +556,8 @@ mod tests {
             density: Some(Density::Temporal(4)),
             ..scrambled("halton", 64)
         };
-        let render = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
-                let s = FrameSampler::new(&cfg, 12, 3).unwrap();
-                (0..16u32)
-                    .into_par_iter()
-                    .flat_map_iter(|y| {
-                        let s = &s;
-                        (0..16u32).flat_map(move |x| (0..64).map(move |i| s.sample(x, y, i)))
-                    })
-                    .collect::<Vec<_>>()
-            })
-        };
-        let one = render(1);
-        assert_eq!(one, render(2));
+        let one = parallel_samples(&cfg, 16, 1);
+        assert_eq!(one, parallel_samples(&cfg, 16, 2));
         assert_eq!(
             one,
             all_samples(&FrameSampler::new(&cfg, 12, 3).unwrap(), 16, 16)
