@@ -49,46 +49,13 @@ pub fn markdown(inp: &Inputs) -> Result<String> {
         inp.render_seconds,
         inp.total_seconds
     )?;
-    jnd_table(&mut s, inp.jnd)?;
+    s.push_str(&inp.jnd.markdown());
     if let Some(p) = &inp.prediction {
         prediction_section(&mut s, p)?;
     }
     error_at_jnd(&mut s, inp.jnd, &rows)?;
     speed_table(&mut s, &rows)?;
     Ok(s)
-}
-
-fn jnd_table(s: &mut String, jnd: &Summary) -> Result<()> {
-    writeln!(
-        s,
-        "## JND (spp at p = {}, pooled over subjects)\n",
-        jnd.target
-    )?;
-    writeln!(
-        s,
-        "| grouping | label | JND | {:.0}% CI | empirical crossing | fit |",
-        100.0 * jnd.confidence
-    )?;
-    writeln!(s, "|---|---|---|---|---|---|")?;
-    for r in &jnd.rows {
-        let ci = r.interval(" to ").unwrap_or_else(|| "none".into());
-        writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} |",
-            r.grouping.name(),
-            r.label,
-            r.jnd.display(),
-            ci,
-            r.empirical.display(),
-            if r.poor_fit { "poor" } else { "ok" }
-        )?;
-    }
-    writeln!(
-        s,
-        "\nt-tests: {} of {} significant at alpha = {} ({} after Holm's correction).\n",
-        jnd.significant, jnd.tests, jnd.alpha, jnd.significant_holm
-    )?;
-    Ok(())
 }
 
 fn prediction_section(s: &mut String, p: &PredictionInputs) -> Result<()> {

@@ -4,6 +4,7 @@
 pub mod bootstrap;
 pub mod cli;
 pub mod comparisons;
+mod continued_fraction;
 pub mod data;
 pub mod figures;
 pub mod jnd;

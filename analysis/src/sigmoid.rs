@@ -5,6 +5,7 @@
 //! 1 - S computed directly (never as 1 - S), plus ln(1 - S), so the likelihood stays finite and
 //! accurate when a fit is nearly a step.
 
+use crate::continued_fraction::{C_INFINITE, Lentz};
 use serde::Serialize;
 
 /// The sigmoid family of a fit.
@@ -147,32 +148,18 @@ fn erf_series(x: f64) -> f64 {
     (-x2).exp() * x * sum / std::f64::consts::PI.sqrt()
 }
 
-/// The continued fraction F of Q(a, x) = e^{-x} x^a F / Gamma(a) (modified Lentz).
+/// The continued fraction F of Q(a, x) = e^{-x} x^a F / Gamma(a) (modified Lentz):
+/// F = 1 / (x + 1 - a - 1 (1 - a) / (x + 3 - a - 2 (2 - a) / (x + 5 - a - ...))).
 fn upper_gamma_fraction(a: f64, x: f64) -> f64 {
-    const TINY: f64 = 1e-300;
     let mut b = x + 1.0 - a;
-    let mut c = 1.0 / TINY;
-    let mut d = 1.0 / b;
-    let mut h = d;
+    let mut f = Lentz::start(C_INFINITE, b);
     for i in 1..10_000 {
-        let an = -(i as f64) * (i as f64 - a);
         b += 2.0;
-        d = an * d + b;
-        if d.abs() < TINY {
-            d = TINY;
-        }
-        c = b + an / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        d = 1.0 / d;
-        let del = d * c;
-        h *= del;
-        if (del - 1.0).abs() <= f64::EPSILON {
+        if (f.step(-(i as f64) * (i as f64 - a), b) - 1.0).abs() <= f64::EPSILON {
             break;
         }
     }
-    h
+    f.h
 }
 
 #[cfg(test)]

@@ -5,6 +5,8 @@
 //! I is evaluated by its continued fraction on whichever side converges, so a p of 1e-300 keeps
 //! full relative precision (it is never 1 - CDF) and a p near 1 keeps full absolute precision.
 
+use crate::continued_fraction::Lentz;
+
 /// Two-sided p-value of t with `df` degrees of freedom (df > 0, finite t). Infinite |t| gives 0.
 pub fn two_sided_p(t: f64, df: f64) -> f64 {
     assert!(df > 0.0 && !t.is_nan(), "two_sided_p({t}, {df})");
@@ -80,43 +82,22 @@ fn ln_gamma_ratio_half(a: f64) -> f64 {
     shift + 0.5 * z.ln() + (z * (0.5 / z).ln_1p() - 0.5) + series
 }
 
-/// The continued fraction of I_x(a, b) (modified Lentz; Numerical Recipes' betacf), iterated
-/// until a step changes the value by less than one ulp.
+/// The continued fraction of I_x(a, b) (modified Lentz; Numerical Recipes' betacf),
+/// 1 / (1 + d1 / (1 + d2 / (1 + ...))), iterated until a pair of steps changes the value by
+/// less than one ulp.
 fn continued_fraction(a: f64, b: f64, x: f64) -> f64 {
-    const TINY: f64 = 1e-300;
     let (qab, qap, qam) = (a + b, a + 1.0, a - 1.0);
-    let mut c = 1.0;
-    let mut d = 1.0 - qab * x / qap;
-    if d.abs() < TINY {
-        d = TINY;
-    }
-    d = 1.0 / d;
-    let mut h = d;
+    let mut f = Lentz::start(1.0, 1.0 - qab * x / qap);
     for m in 1..=10_000 {
         let m = m as f64;
         let m2 = 2.0 * m;
-        let aa = m * (b - m) * x / ((qam + m2) * (a + m2));
-        d = 1.0 + aa * d;
-        d = if d.abs() < TINY { 1.0 / TINY } else { 1.0 / d };
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        h *= d * c;
-        let aa = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
-        d = 1.0 + aa * d;
-        d = if d.abs() < TINY { 1.0 / TINY } else { 1.0 / d };
-        c = 1.0 + aa / c;
-        if c.abs() < TINY {
-            c = TINY;
-        }
-        let del = d * c;
-        h *= del;
-        if (del - 1.0).abs() <= f64::EPSILON {
+        f.step(m * (b - m) * x / ((qam + m2) * (a + m2)), 1.0);
+        let odd = -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2));
+        if (f.step(odd, 1.0) - 1.0).abs() <= f64::EPSILON {
             break;
         }
     }
-    h
+    f.h
 }
 
 #[cfg(test)]

@@ -1,13 +1,14 @@
-//! A few lines for a terminal: the pooled JND per scene and per point set (with its interval
-//! and the thesis-style empirical crossing) and how many t-tests came out significant. The
-//! umbrella `demo` command prints it after an analysis; `analyze` prints it too.
+//! The pooled JND per scene and per point set (with its interval and the thesis-style
+//! empirical crossing) and how many t-tests came out significant, as a few lines for a
+//! terminal (`Display`: `demo` and `analyze` print it) and as the study summary's Markdown
+//! section.
 
 use crate::bootstrap::{Bound, interval_text};
 use crate::data::Grouping;
 use crate::jnd::Threshold;
 use crate::report::Report;
 use serde::Serialize;
-use std::fmt;
+use std::fmt::{self, Write as _};
 
 /// One group's pooled JND.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -75,6 +76,38 @@ impl Report {
             significant_holm: defined.filter(|c| c.significant_holm == Some(true)).count(),
             alpha: self.settings.comparisons.alpha,
         }
+    }
+}
+
+impl Summary {
+    /// The same rows as a Markdown section (the study summary's; `report.md` has the fuller
+    /// table with each fit's kind, deviance and goodness of fit).
+    pub fn markdown(&self) -> String {
+        let mut s = format!(
+            "## JND (spp at p = {}, pooled over subjects)\n\n\
+             | grouping | label | JND | {:.0}% CI | empirical crossing | fit |\n|---|---|---|---|---|---|\n",
+            self.target,
+            100.0 * self.confidence
+        );
+        for r in &self.rows {
+            let ci = r.interval(" to ").unwrap_or_else(|| "none".into());
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} |",
+                r.grouping.name(),
+                r.label,
+                r.jnd.display(),
+                ci,
+                r.empirical.display(),
+                if r.poor_fit { "poor" } else { "ok" }
+            );
+        }
+        let _ = writeln!(
+            s,
+            "\nt-tests: {} of {} significant at alpha = {} ({} after Holm's correction).\n",
+            self.significant, self.tests, self.alpha, self.significant_holm
+        );
+        s
     }
 }
 
