@@ -278,10 +278,10 @@ impl Design {
     /// The reference stimulus id of a condition (scene, point set, time filter).
     pub fn reference_id(&self, scene: &str, point_set: &str, time_filter: &str) -> String {
         match &self.file.reference {
-            ReferenceChoice::SceneReference => renderer::job::expand::reference_id(scene),
+            ReferenceChoice::SceneReference => renderer::ids::reference_id(scene),
             ReferenceChoice::HighestLevel => {
                 let top = self.file.levels.iter().copied().max().unwrap_or(0);
-                renderer::job::expand::stimulus_id(scene, point_set, time_filter, top)
+                renderer::ids::stimulus_id(scene, point_set, time_filter, top)
             }
             ReferenceChoice::Stimuli(m) => m[scene].clone(),
         }

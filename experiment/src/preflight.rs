@@ -98,8 +98,7 @@ pub fn needed_stimuli(design: &Design) -> Vec<Needed> {
             reference_id: None,
         });
         for &level in &design.file.levels {
-            let id =
-                renderer::job::expand::stimulus_id(&c.scene, &c.point_set, &c.time_filter, level);
+            let id = renderer::ids::stimulus_id(&c.scene, &c.point_set, &c.time_filter, level);
             out.insert(
                 id.clone(),
                 Needed {

@@ -12,7 +12,7 @@ use crate::design::Design;
 use crate::log::{Side, TrialRecord};
 use rand::seq::SliceRandom;
 use renderer::hash::{HashRng, hash};
-use renderer::job::expand::stimulus_id;
+use renderer::ids::stimulus_id;
 
 /// One cell of the design (without the level).
 #[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

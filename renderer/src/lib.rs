@@ -1,36 +1,73 @@
 //! The renderer: motion-blurred distribution ray tracing of stimulus videos
 //! (thesis Chapter III), the sampling machinery the study compares, and stimulus jobs.
+//!
+//! Two layers, chosen by cargo features (docs/ARCHITECTURE.md): the light core (stimulus
+//! ids, hashing, atomic writes, the JSON and UTF-8 readers, limits, the stimulus manifest) is
+//! always built, because the experiment and the analysis need it; feature `plot` adds the
+//! figures' font, and feature `tracer` (default) everything that renders. The experiment and
+//! the analysis turn `tracer` off, so they do not compile the ray tracer.
 
-pub mod accel;
+// The light core.
 pub mod atomic;
-pub mod bvh;
-pub mod camera;
-pub mod cli;
-pub mod contact_sheet;
-pub mod convergence;
-pub mod convert;
-pub mod display_convergence;
-pub mod environment;
-pub mod export;
-pub mod film;
-pub mod frame_io;
-pub mod geometry;
 pub mod hash;
-pub mod job;
+pub mod ids;
 pub mod json;
-pub mod light;
 pub mod limits;
 pub mod manifest;
-pub mod material;
-pub mod metrics;
-pub mod motion;
 pub mod paths;
-pub mod plot_font;
-pub mod procedural;
-pub mod render;
-pub mod sampling;
-pub mod scene;
-pub mod shading;
-pub mod text;
 pub mod utf8;
+
+#[cfg(feature = "plot")]
+pub mod plot_font;
+
+// The tracer and what is built on it.
+#[cfg(feature = "tracer")]
+pub mod accel;
+#[cfg(feature = "tracer")]
+pub mod bvh;
+#[cfg(feature = "tracer")]
+pub mod camera;
+#[cfg(feature = "tracer")]
+pub mod cli;
+#[cfg(feature = "tracer")]
+pub mod contact_sheet;
+#[cfg(feature = "tracer")]
+pub mod convergence;
+#[cfg(feature = "tracer")]
+pub mod convert;
+#[cfg(feature = "tracer")]
+pub mod display_convergence;
+#[cfg(feature = "tracer")]
+pub mod environment;
+#[cfg(feature = "tracer")]
+pub mod export;
+#[cfg(feature = "tracer")]
+pub mod film;
+#[cfg(feature = "tracer")]
+pub mod frame_io;
+#[cfg(feature = "tracer")]
+pub mod geometry;
+#[cfg(feature = "tracer")]
+pub mod job;
+#[cfg(feature = "tracer")]
+pub mod light;
+#[cfg(feature = "tracer")]
+pub mod material;
+#[cfg(feature = "tracer")]
+pub mod metrics;
+#[cfg(feature = "tracer")]
+pub mod motion;
+#[cfg(feature = "tracer")]
+pub mod procedural;
+#[cfg(feature = "tracer")]
+pub mod render;
+#[cfg(feature = "tracer")]
+pub mod sampling;
+#[cfg(feature = "tracer")]
+pub mod scene;
+#[cfg(feature = "tracer")]
+pub mod shading;
+#[cfg(feature = "tracer")]
+pub mod text;
+#[cfg(feature = "tracer")]
 pub mod workload;

@@ -9,8 +9,10 @@
 /// Largest image side in pixels (a typo guard: 16384² pixels is 3 GB of film).
 pub const MAX_IMAGE_SIDE: u32 = 16384;
 
-/// Most samples per pixel of one render (the point sets' largest set).
-pub const MAX_SPP: u32 = crate::sampling::pointset::MAX_POINTS as u32;
+/// Most samples per pixel of one render: the point sets' largest set (Owen-scrambled Sobol
+/// stops at 2^16; no study needs more per pixel, and the limit keeps Poisson elimination and
+/// memory bounded).
+pub const MAX_SPP: u32 = 1 << 16;
 
 /// Largest magnitude of any number in a scene (coordinates, sizes, velocities, intensities,
 /// times), and of any velocity times the largest |time| of the animation. Why 1e7: the tracer

@@ -8,6 +8,7 @@
 
 use super::{Job, Reference};
 use crate::hash;
+pub use crate::ids::{reference_id, stimulus_id};
 use crate::sampling::SamplingConfig;
 
 /// One stimulus to render.
@@ -32,16 +33,6 @@ impl StimulusSpec {
     pub fn own_reference(&self) -> bool {
         self.reference_id.as_deref() == Some(self.id.as_str())
     }
-}
-
-/// The id of a test stimulus. Levels are zero-padded to four digits so ids sort by level.
-pub fn stimulus_id(scene: &str, point_set: &str, time_filter: &str, spp: u32) -> String {
-    format!("{scene}-{point_set}-{time_filter}-{spp:04}")
-}
-
-/// The id of a scene's reference.
-pub fn reference_id(scene: &str) -> String {
-    format!("{scene}-reference")
 }
 
 /// Every stimulus of the job, references first within each scene.

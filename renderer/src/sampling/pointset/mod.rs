@@ -23,9 +23,8 @@ pub use stratified::Stratified;
 
 use anyhow::{Result, bail};
 
-/// The most points a set may have (Owen-scrambled Sobol stops at 2^16; no study needs more per
-/// pixel, and the limit keeps Poisson elimination and memory bounded).
-pub const MAX_POINTS: usize = 1 << 16;
+/// The most points a set may have: [`crate::limits::MAX_SPP`].
+pub const MAX_POINTS: usize = crate::limits::MAX_SPP as usize;
 
 /// The largest double below 1: where coordinates that round up to 1 are put back.
 const BELOW_ONE: f64 = 1.0 - f64::EPSILON / 2.0;

@@ -1,0 +1,29 @@
+//! Stimulus ids, the names every later part uses for a rendered stimulus: the manifest's
+//! entries, the design's trials, the session logs and the analysis all refer to stimuli by
+//! them (`plane-hammersley-truncated_box-0064`, `plane-reference`). They live in the light core
+//! so that the experiment and the analysis can build them without the tracer.
+
+/// The id of a test stimulus. Levels are zero-padded to four digits so ids sort by level.
+pub fn stimulus_id(scene: &str, point_set: &str, time_filter: &str, spp: u32) -> String {
+    format!("{scene}-{point_set}-{time_filter}-{spp:04}")
+}
+
+/// The id of a scene's reference.
+pub fn reference_id(scene: &str) -> String {
+    format!("{scene}-reference")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_sort_by_level_and_name_their_parts() {
+        assert_eq!(
+            stimulus_id("plane", "hammersley", "box", 8),
+            "plane-hammersley-box-0008"
+        );
+        assert!(stimulus_id("s", "p", "t", 64) < stimulus_id("s", "p", "t", 512));
+        assert_eq!(reference_id("plane"), "plane-reference");
+    }
+}
