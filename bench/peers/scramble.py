@@ -155,7 +155,7 @@ def main():
         report[f"best_{r}"] = best[1]
         report[f"best_{r}_rmse_over_best_mitsuba_rmse"] = best[0] / best_m[0]
     report["load_average_after"] = " ".join(f"{x:.1f}" for x in os.getloadavg())
-    print(json.dumps(report, indent=2))
+    print("\n" + json.dumps(report, indent=2), flush=True)  # on its own lines: see scramble.sh
 
 
 if __name__ == "__main__":

@@ -32,7 +32,9 @@ if [ "$which" = mitsuba ] || [ "$which" = both ]; then
   export DRJIT_LIBLLVM_PATH="$llvm"
   [ -x "$cache/venv/bin/python" ] || python3 -m venv "$cache/venv"
   "$cache/venv/bin/pip" install --quiet --disable-pip-version-check 'mitsuba>=3.9,<4' numpy
-  "$cache/venv/bin/python" "$here/scramble.py" --bin "$bin" --cache "$cache" "$@"
+  # Mitsuba's warnings (the orthogonal sampler rounds 16 spp up to 25) go to stdout too.
+  "$cache/venv/bin/python" "$here/scramble.py" --bin "$bin" --cache "$cache" "$@" \
+    | sed -n '/^{$/,/^}$/p'
 fi
 
 if [ "$which" = cycles ] || [ "$which" = both ]; then
