@@ -5,6 +5,7 @@
 //! ```text
 //! cargo run --release -p renderer --example sample_cost -- SCENE.json --spp 16 --rounds 5
 //! cargo run --release -p renderer --example sample_cost -- SCENE.json --spp 1024 --rounds 1 --out ref.f32
+//! cargo run --release -p renderer --example sample_cost -- SCENE.json --randomization scramble
 //! ```
 //!
 //! Each round renders frame `--frame` (default 0) with `--seed` + round as the stimulus seed
@@ -16,6 +17,7 @@
 use anyhow::{Context, Result};
 use clap::Parser;
 use renderer::render::render_frame;
+use renderer::sampling::Randomization;
 use renderer::scene::Scene;
 use std::path::PathBuf;
 
@@ -29,6 +31,9 @@ struct Args {
     /// Point set (default: the scene's).
     #[arg(long)]
     point_set: Option<String>,
+    /// Per-pixel randomization, `shift` or `scramble` (default: the scene's).
+    #[arg(long)]
+    randomization: Option<String>,
     #[arg(long, default_value_t = 0)]
     frame: u32,
     #[arg(long, default_value_t = 5)]
@@ -51,6 +56,13 @@ fn main() -> Result<()> {
     sampling.spp = args.spp.unwrap_or(sampling.spp);
     if let Some(p) = &args.point_set {
         sampling.point_set = p.clone();
+    }
+    if let Some(r) = &args.randomization {
+        sampling.randomization = Some(match r.as_str() {
+            "shift" => Randomization::Shift,
+            "scramble" => Randomization::Scramble,
+            other => anyhow::bail!("--randomization {other}: expected shift or scramble"),
+        });
     }
     // One rayon thread, and the timing taken on it: rows run on the pool's thread.
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
