@@ -27,6 +27,7 @@ pub mod motion;
 pub mod paths;
 pub mod plot_font;
 pub mod procedural;
+pub mod progress;
 pub mod render;
 pub mod sampling;
 pub mod scene;
