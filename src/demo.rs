@@ -15,6 +15,8 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use renderer::manifest::Manifest;
+use renderer::progress::NoProgress;
+use renderer::progress::terminal::{Look, Terminal};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -83,11 +85,8 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
 
     eprintln!("[2/5] checking the stimuli against the design ({DESIGN})");
     let design = experiment::Design::load(&root.join(DESIGN))?;
-    let checks = experiment::preflight::PreflightOptions {
-        check_hashes: true,
-        progress: false,
-    };
-    experiment::preflight::preflight(&design, checks).into_result()?;
+    let checks = experiment::preflight::PreflightOptions { check_hashes: true };
+    experiment::preflight::preflight(&design, checks, &NoProgress).into_result()?;
 
     eprintln!("[3/5] predicting visibility from the stimuli");
     let predicted = analysis::predict::command::run(&analysis::predict::command::PredictArgs {
@@ -184,9 +183,8 @@ fn resolve_root(given: Option<&Path>) -> Result<PathBuf> {
 /// frames rendered and reused.
 fn render(root: &Path, progress: bool) -> Result<(PathBuf, Manifest, u64, u64)> {
     let job = renderer::job::Job::load(&root.join(JOB))?;
-    let mut opts = renderer::job::RunOptions::new(root.join("stimuli"));
-    opts.progress = progress;
-    let done = renderer::job::run(&job, &opts)?;
+    let opts = renderer::job::RunOptions::new(root.join("stimuli"));
+    let done = renderer::job::run(&job, &opts, &Terminal::new(Look::Job, progress))?;
     eprintln!(
         "      {} frames rendered, {} reused from an earlier run",
         done.frames_rendered, done.frames_skipped

@@ -14,6 +14,7 @@ use experiment::Design;
 use experiment::log::SessionLog;
 use experiment::preflight::{PreflightOptions, preflight};
 use renderer::manifest::Manifest;
+use renderer::progress::NoProgress;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -327,20 +328,16 @@ fn library_chain_hands_each_part_the_previous_parts_files() {
     let inputs = write_inputs();
 
     let job = renderer::job::Job::load(&inputs.job).expect("job file");
-    let mut opts = renderer::job::RunOptions::new(inputs.stimuli());
-    opts.progress = false;
-    let done = renderer::job::run(&job, &opts).expect("render");
+    let opts = renderer::job::RunOptions::new(inputs.stimuli());
+    let done = renderer::job::run(&job, &opts, &NoProgress).expect("render");
     assert_eq!(done.frames_rendered, (STIMULI as u32 * FRAMES) as u64);
     assert_eq!(done.frames_missing, 0);
     let manifest = check_manifest(&inputs);
 
     let design = Design::load(&inputs.design).expect("design file");
     assert_eq!(design.manifest_path, inputs.manifest());
-    let checks = PreflightOptions {
-        check_hashes: true,
-        progress: false,
-    };
-    let report = preflight(&design, checks);
+    let checks = PreflightOptions { check_hashes: true };
+    let report = preflight(&design, checks, &NoProgress);
     assert_eq!(report.stimuli_checked, STIMULI);
     assert_eq!(report.frames_checked, (STIMULI as u32 * FRAMES) as u64);
     report.into_result().expect("preflight passes");
@@ -383,7 +380,9 @@ fn library_chain_hands_each_part_the_previous_parts_files() {
     let last = bytes.len() - 20; // inside the image data, before the IEND chunk
     bytes[last] ^= 0xff;
     std::fs::write(&frame, bytes).unwrap();
-    let err = preflight(&design, checks).into_result().unwrap_err();
+    let err = preflight(&design, checks, &NoProgress)
+        .into_result()
+        .unwrap_err();
     assert!(format!("{err:#}").contains(&victim.id), "{err:#}");
 }
 

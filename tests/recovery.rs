@@ -250,8 +250,8 @@ fn run(n: u64, resamples: usize) -> (Vec<Replication>, Plan) {
             factor: 2.0,
             replication: replication_settings(resamples),
             keep_replications: true,
-            progress: false,
         },
+        &renderer::progress::NoProgress,
     )
     .expect("the plan runs");
     let keys: Vec<GroupKey> = plan.kept[0].pooled.iter().map(|(k, _)| k.clone()).collect();

@@ -14,7 +14,6 @@ pub mod options;
 pub mod output;
 pub mod plan;
 pub mod predict;
-pub mod progress;
 pub mod psychometric;
 pub mod report;
 pub mod sigmoid;

@@ -104,7 +104,11 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
 /// `run`: a subject's session in the window.
 #[cfg(feature = "gui")]
 pub fn run(args: RunArgs) -> Result<()> {
-    crate::app::launch(&args.launch_options())
+    use renderer::progress::terminal::{Look, Terminal};
+    crate::app::launch(
+        &args.launch_options(),
+        &Terminal::new(Look::Preflight, true),
+    )
 }
 
 /// `run` without the window: explain how to get it.

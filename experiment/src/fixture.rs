@@ -91,11 +91,9 @@ pub fn write_study_with_reference(
     });
     std::fs::write(&job_path, job.to_string())?;
     let job = Job::load(&job_path)?;
-    let opts = RunOptions {
-        progress: false,
-        ..RunOptions::new(root.join("stimuli"))
-    };
-    let report = renderer::job::run(&job, &opts).context("rendering the fixture's stimuli")?;
+    let opts = RunOptions::new(root.join("stimuli"));
+    let report = renderer::job::run(&job, &opts, &renderer::progress::NoProgress)
+        .context("rendering the fixture's stimuli")?;
     let mut design = json!({
         "format": "blurlab-design/1",
         "name": spec.name,

@@ -9,6 +9,7 @@ use crate::trials::conditions;
 use anyhow::Result;
 use rayon::prelude::*;
 use renderer::manifest::{ContentHash, Manifest, Stimulus};
+use renderer::progress::Progress;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -45,8 +46,6 @@ impl fmt::Display for Problem {
 pub struct PreflightOptions {
     /// Read every frame and compare the content hash (the slow part: all frame bytes).
     pub check_hashes: bool,
-    /// Show a progress bar on stderr.
-    pub progress: bool,
 }
 
 /// What preflight found.
@@ -114,8 +113,12 @@ pub fn needed_stimuli(design: &Design) -> Vec<Needed> {
     out.into_values().collect()
 }
 
-/// Check the design's stimuli.
-pub fn preflight(design: &Design, opts: PreflightOptions) -> PreflightReport {
+/// Check the design's stimuli; `progress` counts the frames checked.
+pub fn preflight(
+    design: &Design,
+    opts: PreflightOptions,
+    progress: &dyn Progress,
+) -> PreflightReport {
     let manifest_path = renderer::manifest::manifest_file(&design.manifest_path);
     let mut report = PreflightReport {
         manifest_path: manifest_path.clone(),
@@ -147,12 +150,12 @@ pub fn preflight(design: &Design, opts: PreflightOptions) -> PreflightReport {
         .filter_map(|n| manifest.get(&n.id))
         .map(|s| s.frame_paths.len() as u64)
         .sum();
-    let bar = progress_bar(opts.progress, total_frames);
+    progress.start(total_frames);
     let results: Vec<(Vec<Problem>, u64, u64)> = needed
         .par_iter()
-        .map(|n| check_stimulus(&manifest, &folder, n, opts, &bar))
+        .map(|n| check_stimulus(&manifest, &folder, n, opts, progress))
         .collect();
-    bar.finish_and_clear();
+    progress.finish();
     for (problems, frames, bytes) in results {
         report.problems.extend(problems);
         report.frames_checked += frames;
@@ -163,27 +166,13 @@ pub fn preflight(design: &Design, opts: PreflightOptions) -> PreflightReport {
     report
 }
 
-fn progress_bar(show: bool, total: u64) -> indicatif::ProgressBar {
-    if !show {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(total);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "preflight {bar:40} {pos}/{len} frames checked ({eta} left)",
-        )
-        .expect("valid template"),
-    );
-    bar
-}
-
 /// Problems of one stimulus, frames checked and bytes hashed.
 fn check_stimulus(
     manifest: &Manifest,
     folder: &Path,
     n: &Needed,
     opts: PreflightOptions,
-    bar: &indicatif::ProgressBar,
+    progress: &dyn Progress,
 ) -> (Vec<Problem>, u64, u64) {
     let mut problems = Vec::new();
     let mut say = |message: String| {
@@ -221,7 +210,7 @@ fn check_stimulus(
             s.fps
         ));
     }
-    let (frame_problems, frames, bytes) = check_frames(s, folder, opts, bar);
+    let (frame_problems, frames, bytes) = check_frames(s, folder, opts, progress);
     for m in frame_problems {
         say(m);
     }
@@ -278,14 +267,14 @@ fn check_frames(
     s: &Stimulus,
     folder: &Path,
     opts: PreflightOptions,
-    bar: &indicatif::ProgressBar,
+    progress: &dyn Progress,
 ) -> (Vec<String>, u64, u64) {
     let mut missing = Vec::new();
     let mut wrong_size = Vec::new();
     let mut hasher = ContentHash::new();
     let mut bytes_hashed = 0u64;
     for (f, rel) in s.frame_paths.iter().enumerate() {
-        bar.inc(1);
+        progress.advance(1);
         let path = folder.join(rel);
         let dims = if opts.check_hashes {
             match std::fs::read(&path) {

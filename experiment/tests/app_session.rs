@@ -36,10 +36,8 @@ fn open_app(study: &Study, subject: &str) -> (SessionApp, PathBuf) {
     let design = Design::load(&study.design_path).unwrap();
     let report = preflight(
         &design,
-        PreflightOptions {
-            check_hashes: true,
-            progress: false,
-        },
+        PreflightOptions { check_hashes: true },
+        &renderer::progress::NoProgress,
     );
     let manifest_path = report.manifest_path.clone();
     let manifest = report.into_result().unwrap();

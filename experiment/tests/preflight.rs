@@ -5,12 +5,10 @@
 use experiment::Design;
 use experiment::fixture::{StudySpec, write_study, write_study_with_reference};
 use experiment::preflight::{PreflightOptions, needed_stimuli, preflight};
+use renderer::progress::NoProgress;
 use std::path::Path;
 
-const FULL: PreflightOptions = PreflightOptions {
-    check_hashes: true,
-    progress: false,
-};
+const FULL: PreflightOptions = PreflightOptions { check_hashes: true };
 
 fn frame(stimuli: &Path, id: &str, f: u32) -> std::path::PathBuf {
     stimuli.join(id).join(format!("frame_{f:04}.png"))
@@ -21,7 +19,7 @@ fn clean_stimuli_pass_and_every_needed_video_is_checked() {
     let dir = tempfile::tempdir().unwrap();
     let study = write_study(dir.path(), &StudySpec::tiny()).unwrap();
     let design = Design::load(&study.design_path).unwrap();
-    let report = preflight(&design, FULL);
+    let report = preflight(&design, FULL, &NoProgress);
     assert!(report.problems.is_empty(), "{:?}", report.problems);
     // 2 scenes x (1 reference + 2 point sets x 2 levels).
     assert_eq!(needed_stimuli(&design).len(), 2 * (1 + 4));
@@ -45,7 +43,7 @@ fn highest_level_references_pass_preflight_and_show_identical_pairs_at_the_top()
     let study =
         write_study_with_reference(dir.path(), &spec, serde_json::json!("highest_level")).unwrap();
     let design = Design::load(&study.design_path).unwrap();
-    let report = preflight(&design, FULL);
+    let report = preflight(&design, FULL, &NoProgress);
     assert!(report.problems.is_empty(), "{:?}", report.problems);
     // 2 scenes x 2 point sets x 2 levels, no separate reference.
     assert_eq!(needed_stimuli(&design).len(), 8);
@@ -87,7 +85,7 @@ fn missing_frame_wrong_size_wrong_hash_and_unrendered_level_are_all_listed() {
     std::fs::write(&study.design_path, d.to_string()).unwrap();
 
     let design = Design::load(&study.design_path).unwrap();
-    let report = preflight(&design, FULL);
+    let report = preflight(&design, FULL, &NoProgress);
     let text: Vec<String> = report.problems.iter().map(|p| p.to_string()).collect();
     let has = |needle: &str, what: &str| {
         assert!(
@@ -125,8 +123,8 @@ fn without_hashes_sizes_and_missing_frames_are_still_checked() {
         &design,
         PreflightOptions {
             check_hashes: false,
-            progress: false,
         },
+        &NoProgress,
     );
     assert_eq!(report.problems.len(), 1, "{:?}", report.problems);
     assert!(
@@ -148,7 +146,7 @@ fn a_missing_manifest_is_one_clear_problem() {
             "levels": [1], "seed": {"master": 1}}"#,
     )
     .unwrap();
-    let report = preflight(&Design::load(&path).unwrap(), FULL);
+    let report = preflight(&Design::load(&path).unwrap(), FULL, &NoProgress);
     assert_eq!(report.problems.len(), 1);
     assert!(
         report.problems[0]

@@ -5,6 +5,7 @@
 //! `CARGO_TARGET_DIR=/work/target-release cargo bench -p renderer --bench render`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::sampling::SamplingConfig;
 use renderer::scene::Scene;
@@ -36,10 +37,10 @@ fn frames(c: &mut Criterion) {
         let (t0, t1) = moving.settings.shutter(frame);
         let frozen = moving.frozen_at(0.5 * (t0 + t1));
         for (label, s) in [("moving", &moving), ("frozen", &frozen)] {
-            let rays = render_frame(s, &cfg, 1, frame, None).unwrap().1.rays;
+            let rays = render_frame(s, &cfg, 1, frame, &NoProgress).unwrap().1.rays;
             group.throughput(Throughput::Elements(rays));
             group.bench_function(format!("{name}/{label}"), |b| {
-                b.iter(|| black_box(render_frame(s, &cfg, 1, frame, None).unwrap()))
+                b.iter(|| black_box(render_frame(s, &cfg, 1, frame, &NoProgress).unwrap()))
             });
         }
     }

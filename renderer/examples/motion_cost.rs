@@ -14,6 +14,7 @@
 
 use anyhow::Result;
 use clap::{Parser, ValueEnum};
+use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::scene::Scene;
 use std::path::PathBuf;
@@ -77,7 +78,7 @@ fn main() -> Result<()> {
     let run = |scene: &Scene| -> Result<(f64, u64)> {
         pool.install(|| {
             let start = thread_cpu_ns()?;
-            let (_, stats) = render_frame(scene, &sampling, 1, frame, None)?;
+            let (_, stats) = render_frame(scene, &sampling, 1, frame, &NoProgress)?;
             Ok(((thread_cpu_ns()? - start) * 1e-6, stats.rays))
         })
     };

@@ -16,6 +16,7 @@
 
 use anyhow::{Context, Result};
 use clap::Parser;
+use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::sampling::Randomization;
 use renderer::scene::Scene;
@@ -70,8 +71,13 @@ fn main() -> Result<()> {
     for round in 0..args.rounds {
         let (cpu, film, stats) = pool.install(|| -> Result<_> {
             let t = thread_cpu_ns()?;
-            let (film, stats) =
-                render_frame(&scene, &sampling, args.seed + round, args.frame, None)?;
+            let (film, stats) = render_frame(
+                &scene,
+                &sampling,
+                args.seed + round,
+                args.frame,
+                &NoProgress,
+            )?;
             Ok((thread_cpu_ns()? - t, film, stats))
         })?;
         println!(

@@ -18,6 +18,7 @@
 
 use anyhow::{Result, ensure};
 use clap::Parser;
+use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::sampling::{Randomization, SamplingConfig, Scope};
 use renderer::scene::Scene;
@@ -147,7 +148,7 @@ fn main() -> Result<()> {
         ..moving.settings.sampling.clone()
     };
     let develop = |scene: &Scene, cfg: &SamplingConfig, seed: u64| -> Result<Vec<[f32; 3]>> {
-        let (film, _) = render_frame(scene, cfg, seed, frame, None)?;
+        let (film, _) = render_frame(scene, cfg, seed, frame, &NoProgress)?;
         Ok(film.develop(exposure).linear)
     };
     let mut csv = String::from("scene,point_set,randomization,spp,seed,rmse_hdr,rmse_clamped\n");

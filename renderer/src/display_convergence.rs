@@ -10,11 +10,11 @@
 //! pixel that one bright sample saturates at every level) fails the first two; one whose
 //! highest level still shows speckles fails the last.
 
+use crate::progress::Progress;
 use crate::render::render_frame;
 use crate::sampling::SamplingConfig;
 use crate::scene::Scene;
 use anyhow::{Result, ensure};
-use indicatif::ProgressBar;
 use std::time::Instant;
 
 /// What to render and compare.
@@ -139,13 +139,14 @@ impl Tally {
 }
 
 /// Render the plan on `scene` (at the scene's size) and compare. `keep` sees every display
-/// frame as it is made; `progress` advances by samples.
+/// frame as it is made; `progress` counts samples (of [`samples`]).
 pub fn measure(
     scene: &Scene,
     plan: &Plan,
-    progress: Option<&ProgressBar>,
+    progress: &dyn Progress,
     mut keep: impl FnMut(&Rendered),
 ) -> Result<Vec<Row>> {
+    progress.start(samples(scene, plan));
     plan.check(scene)?;
     let base = &scene.settings.sampling;
     let config = |point_set: &str, spp: u32| SamplingConfig {
@@ -206,6 +207,7 @@ pub fn measure(
             });
         }
     }
+    progress.finish();
     Ok(rows)
 }
 

@@ -2,10 +2,11 @@
 //! (thesis Chapter III), the sampling machinery the study compares, and stimulus jobs.
 //!
 //! Two layers, chosen by cargo features (docs/ARCHITECTURE.md): the light core (stimulus
-//! ids, hashing, atomic writes, the JSON and UTF-8 readers, limits, the stimulus manifest) is
-//! always built, because the experiment and the analysis need it; feature `plot` adds the
-//! figures' font, and feature `tracer` (default) everything that renders. The experiment and
-//! the analysis turn `tracer` off, so they do not compile the ray tracer.
+//! ids, hashing, atomic writes, the JSON and UTF-8 readers, limits, the stimulus manifest,
+//! the progress trait) is always built, because the experiment and the analysis need it;
+//! feature `plot` adds the figures' font, feature `terminal` the progress bar the binaries
+//! bind, and feature `tracer` (default) everything that renders. The experiment and the
+//! analysis turn `tracer` off, so they do not compile the ray tracer.
 
 // The light core.
 pub mod atomic;
@@ -15,6 +16,7 @@ pub mod json;
 pub mod limits;
 pub mod manifest;
 pub mod paths;
+pub mod progress;
 pub mod utf8;
 
 #[cfg(feature = "plot")]

@@ -48,3 +48,43 @@ fn lower_layers_do_not_import_the_job_or_command_line_layers() {
     }
     assert!(upward.is_empty(), "upward imports:\n{}", upward.join("\n"));
 }
+
+/// Libraries report through `progress` and only the command line draws: `progress/mod.rs`
+/// uses std alone (the crates that will not compile the tracer use it), and indicatif and the
+/// terminal binding are named nowhere outside `progress/terminal.rs` and `cli/`.
+#[test]
+fn progress_is_std_only_and_only_the_command_line_draws() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let core = std::fs::read_to_string(src.join("progress/mod.rs")).unwrap();
+    for line in core.lines() {
+        let code = line.split("//").next().unwrap_or("").trim();
+        assert!(
+            !code.contains("crate::") && !code.contains("indicatif"),
+            "progress/mod.rs: {line}"
+        );
+        if code.starts_with("use ") {
+            assert!(code.starts_with("use std::"), "progress/mod.rs: {line}");
+        }
+    }
+    let mut files = Vec::new();
+    sources(&src, &mut files);
+    let mut drawing = Vec::new();
+    for file in &files {
+        let rel = file.strip_prefix(&src).unwrap();
+        if rel.starts_with("cli") || rel == Path::new("progress/terminal.rs") {
+            continue;
+        }
+        let text = std::fs::read_to_string(file).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            if code.contains("indicatif") || code.contains("terminal::") {
+                drawing.push(format!("{}:{}: {}", rel.display(), i + 1, line.trim()));
+            }
+        }
+    }
+    assert!(
+        drawing.is_empty(),
+        "terminal bars outside cli/:\n{}",
+        drawing.join("\n")
+    );
+}

@@ -3,6 +3,7 @@
 
 use renderer::job::Overrides;
 use renderer::job::scene_source::load_source;
+use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::sampling::SamplingConfig;
 use renderer::scene::Scene;
@@ -29,7 +30,7 @@ fn the_suites_scenes_load_and_render_without_nan() {
         };
         let last = scene.settings.frames - 1;
         for frame in [0, last / 2, last] {
-            let (film, stats) = render_frame(&scene, &cfg, 1, frame, None).unwrap();
+            let (film, stats) = render_frame(&scene, &cfg, 1, frame, &NoProgress).unwrap();
             assert_eq!(stats.non_finite, 0, "{name} frame {frame}");
             assert!(film.pixels.iter().all(|p| p.is_finite()));
         }
@@ -285,7 +286,7 @@ fn a_job_renders_a_real_scene_with_its_overrides() {
     let mut scene = Scene::load(&path).unwrap();
     scene.settings.width = 6;
     scene.settings.height = 4;
-    let (film, _) = render_frame(&scene, &job_sampling, 9, 2, None).unwrap();
+    let (film, _) = render_frame(&scene, &job_sampling, 9, 2, &NoProgress).unwrap();
     assert_eq!(film.develop(1.0).display, frame.display);
     let small = src.resized(3, 2).unwrap();
     assert_eq!(small.render(&job_sampling, 9, 0).unwrap().linear.len(), 6);

@@ -5,11 +5,16 @@
 
 use glam::Vec3;
 use renderer::film::Film;
+use renderer::progress::NoProgress;
 use renderer::render::{FrameStats, render_frame};
 use renderer::sampling::{SamplingConfig, SpatialFilter, TimeFilter};
 use renderer::scene::Scene;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
+
+#[path = "support/progress.rs"]
+mod recorder;
+use recorder::Recorder;
 
 fn load(v: &Value, dir: &Path) -> Scene {
     Scene::from_json(&v.to_string(), &dir.join("test.json")).unwrap()
@@ -26,7 +31,7 @@ fn sampling(spp: u32) -> SamplingConfig {
 }
 
 fn render(scene: &Scene, spp: u32, frame: u32) -> (Film, FrameStats) {
-    render_frame(scene, &sampling(spp), 7, frame, None).unwrap()
+    render_frame(scene, &sampling(spp), 7, frame, &NoProgress).unwrap()
 }
 
 fn assert_all_finite(film: &Film, stats: &FrameStats, what: &str) {
@@ -94,7 +99,7 @@ fn a_moving_edge_is_blurred_by_the_time_filters_cdf() {
             ..sampling(spp)
         };
         let filter = filter.name();
-        let (film, stats) = render_frame(&scene, &cfg, 3, 0, None).unwrap();
+        let (film, stats) = render_frame(&scene, &cfg, 3, 0, &NoProgress).unwrap();
         assert_all_finite(&film, &stats, filter);
         // Tolerance. Noise: each sample is 0 or 1 (variance <= 1/4) and pixels' estimates are
         // uncorrelated (independent per-pixel shifts), so a column mean over h rows has
@@ -483,17 +488,33 @@ fn sequences_write_the_same_files_with_one_or_two_threads() {
             frames: frames.clone(),
             seed: 3,
             exr: true,
-            progress: false,
         };
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
+        let progress = Recorder::default();
         let report = pool
-            .install(|| render_sequence(&scene, &sampling(4), &opts))
+            .install(|| render_sequence(&scene, &sampling(4), &opts, &progress))
             .unwrap();
         assert_eq!(report.frames as usize, frames.len());
         assert_eq!(report.stats.samples, 37 * 21 * 4 * frames.len() as u64);
+        // One start with every sample of the run, advanced to the end by tiles, one message
+        // per frame, then finished.
+        let seen = progress.seen();
+        assert_eq!(seen.totals, [report.stats.samples]);
+        assert_eq!(seen.advances.iter().sum::<u64>(), report.stats.samples);
+        assert_eq!(
+            seen.advances.len(),
+            3 * 2 * frames.len(),
+            "3 x 2 tiles a frame"
+        );
+        assert_eq!(seen.messages.len(), frames.len());
+        assert_eq!(
+            seen.messages[0],
+            format!("frame 1/{} (scene frame 0)", frames.len())
+        );
+        assert!(seen.finished);
         let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(&out)
             .unwrap()
             .map(|e| {
@@ -512,4 +533,33 @@ fn sequences_write_the_same_files_with_one_or_two_threads() {
         "a PNG and an EXR per frame, no temporaries"
     );
     assert_eq!(one, two);
+}
+
+/// A frame advances its caller's progress once per tile, by the tile's samples, to exactly the
+/// frame's samples; it neither starts nor finishes (its caller knows the whole work).
+#[test]
+fn a_frame_advances_progress_by_its_tiles_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = load(&motion_scene(dir.path(), false), dir.path());
+    scene.settings.width = 37;
+    scene.settings.height = 21;
+    let progress = Recorder::default();
+    let (_, stats) = render_frame(&scene, &sampling(3), 7, 0, &progress).unwrap();
+    assert_eq!(stats.samples, 37 * 21 * 3);
+    let mut seen = progress.seen();
+    assert!(seen.totals.is_empty() && seen.messages.is_empty() && !seen.finished);
+    assert_eq!(seen.advances.iter().sum::<u64>(), stats.samples);
+    // 3 x 2 tiles, finishing in any order: 16 x 16 twice, 5 x 16, 16 x 5 twice, 5 x 5.
+    seen.advances.sort_unstable();
+    let tile = |w: u64, h: u64| w * h * 3;
+    let mut want = vec![
+        tile(16, 16),
+        tile(16, 16),
+        tile(5, 16),
+        tile(16, 5),
+        tile(16, 5),
+        tile(5, 5),
+    ];
+    want.sort_unstable();
+    assert_eq!(seen.advances, want);
 }

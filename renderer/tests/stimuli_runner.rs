@@ -5,8 +5,13 @@
 use renderer::job::source::{FrameSource, SyntheticSource};
 use renderer::job::{Finalize, Job, RunOptions, Shard, run_with_sources};
 use renderer::manifest::Manifest;
+use renderer::progress::NoProgress;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+#[path = "support/progress.rs"]
+mod recorder;
+use recorder::Recorder;
 
 const JOB: &str = r#"{
   "format": "blurlab-job/1",
@@ -50,13 +55,6 @@ fn sources() -> Vec<Box<dyn FrameSource>> {
     ]
 }
 
-fn quiet(out: &Path) -> RunOptions {
-    RunOptions {
-        progress: false,
-        ..RunOptions::new(out)
-    }
-}
-
 /// Every file under `dir` except frame records (they hold wall-clock seconds) and the manifest.
 fn frame_files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     let mut out = BTreeMap::new();
@@ -89,7 +87,7 @@ fn without_seconds(mut m: Manifest) -> Manifest {
 fn a_run_writes_every_stimulus_and_a_manifest_that_round_trips() {
     let f = fixture(JOB);
     let out = f.dir.path().join("stimuli");
-    let report = run_with_sources(&f.job, &sources(), &quiet(&out)).unwrap();
+    let report = run_with_sources(&f.job, &sources(), &RunOptions::new(&out), &NoProgress).unwrap();
     let m = report.manifest.expect("complete run is finalized");
     assert_eq!(m.stimuli.len(), 2 * (1 + 3));
     assert_eq!(report.frames_rendered, 4 * 5 + 4 * 3);
@@ -138,7 +136,7 @@ fn a_run_writes_every_stimulus_and_a_manifest_that_round_trips() {
 fn a_rerun_after_an_interruption_finishes_only_what_is_missing() {
     let f = fixture(JOB);
     let out = f.dir.path().join("stimuli");
-    let first = run_with_sources(&f.job, &sources(), &quiet(&out)).unwrap();
+    let first = run_with_sources(&f.job, &sources(), &RunOptions::new(&out), &NoProgress).unwrap();
     let before = frame_files(&first.job_dir);
     let m1 = without_seconds(first.manifest.unwrap());
 
@@ -155,8 +153,22 @@ fn a_rerun_after_an_interruption_finishes_only_what_is_missing() {
     std::fs::write(r.join("frame_0002.exr"), &exr[..100]).unwrap();
     std::fs::remove_file(first.job_dir.join("manifest.json")).unwrap();
 
-    let second = run_with_sources(&f.job, &sources(), &quiet(&out)).unwrap();
+    let progress = Recorder::default();
+    let second = run_with_sources(&f.job, &sources(), &RunOptions::new(&out), &progress).unwrap();
     assert_eq!(second.frames_rendered, 3);
+    // Progress counts the samples of what is left, frame by frame: two frames of alpha at
+    // 12 x 8 x 16 spp and one of beta's reference at 10 x 6 x 256.
+    let seen = progress.seen();
+    let left = 2 * 12 * 8 * 16 + 10 * 6 * 256;
+    assert_eq!(seen.totals, [left]);
+    assert_eq!(seen.advances.iter().sum::<u64>(), left);
+    assert_eq!(seen.messages.len(), 3);
+    assert!(
+        seen.messages[0].starts_with("frame 1/3 of shard "),
+        "{:?}",
+        seen.messages
+    );
+    assert!(seen.finished);
     assert_eq!(second.frames_skipped, 4 * 5 + 4 * 3 - 3);
     assert_eq!(frame_files(&second.job_dir), before);
     assert_eq!(without_seconds(second.manifest.unwrap()), m1);
@@ -166,14 +178,20 @@ fn a_rerun_after_an_interruption_finishes_only_what_is_missing() {
     );
 
     // Nothing missing: a third run renders nothing.
-    let third = run_with_sources(&f.job, &sources(), &quiet(&out)).unwrap();
+    let third = run_with_sources(&f.job, &sources(), &RunOptions::new(&out), &NoProgress).unwrap();
     assert_eq!(third.frames_rendered, 0);
 }
 
 #[test]
 fn the_union_of_shards_equals_the_single_run_byte_for_byte() {
     let f = fixture(JOB);
-    let whole = run_with_sources(&f.job, &sources(), &quiet(&f.dir.path().join("whole"))).unwrap();
+    let whole = run_with_sources(
+        &f.job,
+        &sources(),
+        &RunOptions::new(f.dir.path().join("whole")),
+        &NoProgress,
+    )
+    .unwrap();
     let expected = frame_files(&whole.job_dir);
     let expected_manifest = without_seconds(whole.manifest.unwrap());
 
@@ -185,9 +203,9 @@ fn the_union_of_shards_equals_the_single_run_byte_for_byte() {
             let opts = RunOptions {
                 shard: Shard { index: k, count: n },
                 finalize: Finalize::Never,
-                ..quiet(&out)
+                ..RunOptions::new(&out)
             };
-            let rep = run_with_sources(&f.job, &sources(), &opts).unwrap();
+            let rep = run_with_sources(&f.job, &sources(), &opts, &NoProgress).unwrap();
             assert!(rep.manifest.is_none());
             if k > 1 {
                 assert!(rep.frames_missing > 0);
@@ -198,8 +216,9 @@ fn the_union_of_shards_equals_the_single_run_byte_for_byte() {
             &sources(),
             &RunOptions {
                 finalize: Finalize::Only,
-                ..quiet(&out)
+                ..RunOptions::new(&out)
             },
+            &NoProgress,
         )
         .unwrap();
         assert_eq!(frame_files(&done.job_dir), expected, "{n} shards");
@@ -213,17 +232,18 @@ fn finalizing_an_incomplete_job_says_what_is_missing() {
     let out = f.dir.path().join("s");
     let opts = RunOptions {
         shard: Shard { index: 1, count: 4 },
-        ..quiet(&out)
+        ..RunOptions::new(&out)
     };
-    let rep = run_with_sources(&f.job, &sources(), &opts).unwrap();
+    let rep = run_with_sources(&f.job, &sources(), &opts, &NoProgress).unwrap();
     assert!(rep.manifest.is_none() && rep.frames_missing > 0);
     let err = run_with_sources(
         &f.job,
         &sources(),
         &RunOptions {
             finalize: Finalize::Only,
-            ..quiet(&out)
+            ..RunOptions::new(&out)
         },
+        &NoProgress,
     )
     .unwrap_err();
     let msg = format!("{err:#}");
@@ -237,9 +257,15 @@ fn finalizing_an_incomplete_job_says_what_is_missing() {
 fn frames_of_a_changed_job_are_never_mixed_in() {
     let f = fixture(JOB);
     let out = f.dir.path().join("s");
-    run_with_sources(&f.job, &sources(), &quiet(&out)).unwrap();
+    run_with_sources(&f.job, &sources(), &RunOptions::new(&out), &NoProgress).unwrap();
     let changed = fixture(&JOB.replace("\"seed\": 11", "\"seed\": 12"));
-    let err = run_with_sources(&changed.job, &sources(), &quiet(&out)).unwrap_err();
+    let err = run_with_sources(
+        &changed.job,
+        &sources(),
+        &RunOptions::new(&out),
+        &NoProgress,
+    )
+    .unwrap_err();
     let msg = format!("{err:#}");
     assert!(
         msg.contains("stimulus.json") && msg.contains("different job"),

@@ -14,6 +14,7 @@
 //! docs/benchmarks/convergence.md.
 
 use renderer::display_convergence::{Criterion, Plan, judge, measure};
+use renderer::progress::NoProgress;
 use renderer::scene::Scene;
 use std::path::Path;
 
@@ -28,7 +29,7 @@ fn check(name: &str, frames: Vec<u32>) {
         ..Plan::thesis("truncated_box", frames)
     };
     assert_eq!(plan.reference_spp, 2048);
-    let rows = measure(&scene, &plan, None, |_| {}).unwrap();
+    let rows = measure(&scene, &plan, &NoProgress, |_| {}).unwrap();
     let verdict = &judge(&rows, &Criterion::thesis())[0];
     assert!(verdict.pass, "{name}: {verdict:?}\n{rows:#?}");
 }

@@ -12,6 +12,7 @@ use renderer::job::{
     IndependentReference, JOB_FORMAT, Job, JobFile, Overrides, Reference, ReferenceSpec,
 };
 use renderer::manifest::Manifest;
+use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::sampling::{
     Density, Randomization, SamplingConfig, SamplingOptions, Scope, SpatialFilter,
@@ -204,7 +205,7 @@ fn figure_13_renders_with_stand_ins_at_the_paths_it_names() {
         ..scene.settings.sampling.clone()
     };
     for frame in [0, 104, 209] {
-        let (film, stats) = render_frame(&scene, &cfg, 1, frame, None).unwrap();
+        let (film, stats) = render_frame(&scene, &cfg, 1, frame, &NoProgress).unwrap();
         assert_eq!(stats.non_finite, 0);
         let lum: Vec<f32> = film.pixels.iter().map(|p| p.x + p.y + p.z).collect();
         assert!(

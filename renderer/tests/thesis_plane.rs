@@ -5,6 +5,7 @@
 //! (centre enters at the right edge near frame 88, leaves at the left after frame 98, up to
 //! about 81 px per frame at 768 x 768).
 
+use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::sampling::{SamplingConfig, SpatialFilter};
 use renderer::scene::Scene;
@@ -150,7 +151,7 @@ fn rendered_extent(scene: &Scene, frame: u32, size: u32) -> Option<[u32; 4]> {
         spatial_filter: Some(SpatialFilter::Box),
         ..SamplingConfig::default()
     };
-    let (film, stats) = render_frame(&still, &cfg, 1, frame, None).unwrap();
+    let (film, stats) = render_frame(&still, &cfg, 1, frame, &NoProgress).unwrap();
     assert_eq!(stats.non_finite, 0);
     let mut e: Option<[u32; 4]> = None;
     for (i, p) in film.pixels.iter().enumerate() {

@@ -10,6 +10,7 @@ use crate::report::Settings;
 use anyhow::{Result, bail};
 use clap::Args;
 use experiment::{Design, Observer};
+use renderer::progress::terminal::{Look, Terminal};
 use std::path::PathBuf;
 
 /// How many subjects a study needs: simulate it many times and analyse each simulation.
@@ -101,9 +102,9 @@ pub fn run(args: &PlanArgs) -> Result<Outcome> {
             groupings,
         },
         keep_replications: false,
-        progress: !args.no_progress,
     };
-    let plan = run_plan(&design, &observer, &settings)?;
+    let bar = Terminal::new(Look::Steps, !args.no_progress);
+    let plan = run_plan(&design, &observer, &settings, &bar)?;
     let duration = args
         .video_seconds
         .or_else(|| manifest_video_seconds(&design))

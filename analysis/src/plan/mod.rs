@@ -22,6 +22,7 @@ use anyhow::{Result, bail};
 use experiment::trials::{Condition, conditions};
 use experiment::{Design, Observer};
 use rayon::prelude::*;
+use renderer::progress::Progress;
 use replicate::{Replication, ReplicationSettings};
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -39,7 +40,6 @@ pub struct PlanSettings {
     pub replication: ReplicationSettings,
     /// Keep every replication's outcome (for tests and deeper analysis).
     pub keep_replications: bool,
-    pub progress: bool,
 }
 
 /// One pooled group at one subject count.
@@ -99,8 +99,13 @@ pub struct Plan {
     pub wall_seconds: f64,
 }
 
-/// Run every replication at every subject count and summarise.
-pub fn run(design: &Design, observer: &Observer, s: &PlanSettings) -> Result<Plan> {
+/// Run every replication at every subject count and summarise; `progress` counts replications.
+pub fn run(
+    design: &Design,
+    observer: &Observer,
+    s: &PlanSettings,
+    progress: &dyn Progress,
+) -> Result<Plan> {
     let t0 = std::time::Instant::now();
     if s.subjects.is_empty() || s.subjects.contains(&0) {
         bail!(
@@ -117,7 +122,8 @@ pub fn run(design: &Design, observer: &Observer, s: &PlanSettings) -> Result<Pla
         .iter()
         .flat_map(|&n| (0..s.replications).map(move |r| (n, r)))
         .collect();
-    let bar = crate::progress::bar(jobs.len() as u64, "simulating studies", s.progress);
+    progress.start(jobs.len() as u64);
+    progress.message("simulating studies");
     let reps: Vec<Replication> = jobs
         .par_iter()
         .map(|&(n, r)| {
@@ -128,11 +134,11 @@ pub fn run(design: &Design, observer: &Observer, s: &PlanSettings) -> Result<Pla
                         .retain(|c| design.file.levels.contains(&c.level));
                     rep
                 });
-            bar.inc(1);
+            progress.advance(1);
             out
         })
         .collect::<Result<_>>()?;
-    bar.finish_and_clear();
+    progress.finish();
     let truths = true_differences(design, observer, &reps);
     let counts = s
         .subjects

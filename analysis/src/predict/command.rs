@@ -9,6 +9,7 @@ use crate::data::Dataset;
 use anyhow::{Result, bail};
 use clap::Args;
 use experiment::Design;
+use renderer::progress::terminal::{Look, Terminal};
 use std::path::PathBuf;
 
 /// Predict how visible each stimulus's noise is, from its display frames.
@@ -56,9 +57,9 @@ pub fn run(args: &PredictArgs) -> Result<Outcome> {
             .and_then(|d| d.file.display.clone())
             .unwrap_or_default(),
         k: args.sensitivity,
-        progress: !args.no_progress,
     };
-    let mut prediction = predict(&args.stimuli, design.as_ref(), &settings)?;
+    let bar = Terminal::new(Look::Steps, !args.no_progress);
+    let mut prediction = predict(&args.stimuli, design.as_ref(), &settings, &bar)?;
     let out = args.out.clone().unwrap_or_else(|| {
         PathBuf::from("results")
             .join(&prediction.job)

@@ -21,6 +21,7 @@ use experiment::predicted::{Curve, PredictedRow};
 use experiment::trials::Condition;
 use rayon::prelude::*;
 use renderer::manifest::Manifest;
+use renderer::progress::Progress;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -31,7 +32,6 @@ pub struct PredictSettings {
     pub display: DisplaySpec,
     /// Sensitivity constant: d' = k Q.
     pub k: f64,
-    pub progress: bool,
 }
 
 /// One test stimulus's prediction.
@@ -144,11 +144,13 @@ fn mean_luminance(video: &VideoSource, display: &Display) -> Result<f64> {
     Ok(sum / n.max(1) as f64)
 }
 
-/// Predict every pair of a stimulus set (`manifest_path`: the manifest file or its folder).
+/// Predict every pair of a stimulus set (`manifest_path`: the manifest file or its folder);
+/// `progress` counts pairs.
 pub fn predict(
     manifest_path: &Path,
     design: Option<&Design>,
     s: &PredictSettings,
+    progress: &dyn Progress,
 ) -> Result<Prediction> {
     let t0 = Instant::now();
     s.display.validate()?;
@@ -163,7 +165,8 @@ pub fn predict(
         .par_iter()
         .map(|&r| Ok((r, mean_luminance(&video(r)?, &display)?)))
         .collect::<Result<_>>()?;
-    let bar = crate::progress::bar(pairs.len() as u64, "predicting", s.progress);
+    progress.start(pairs.len() as u64);
+    progress.message("predicting");
     let stimuli = pairs
         .par_iter()
         .map(|p| {
@@ -176,11 +179,11 @@ pub fn predict(
                 s.k,
             )
             .with_context(|| format!("stimulus {} against {}", p.test, p.reference));
-            bar.inc(1);
+            progress.advance(1);
             r
         })
         .collect::<Result<Vec<_>>>()?;
-    bar.finish_and_clear();
+    progress.finish();
     let conditions = conditions(&stimuli, s.k);
     Ok(Prediction {
         job: manifest.job.clone(),

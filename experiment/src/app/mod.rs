@@ -15,6 +15,7 @@ use crate::paths::sessions_dir;
 use crate::preflight::{PreflightOptions, preflight};
 use crate::session::Session;
 use anyhow::{Context, Result};
+use renderer::progress::Progress;
 use std::path::PathBuf;
 
 /// What [`launch`] needs: a subject's session of a design, and how to show it.
@@ -50,15 +51,16 @@ impl LaunchOptions {
     }
 }
 
-/// `run`: preflight, open (or continue) the subject's log, then the window.
-pub fn launch(args: &LaunchOptions) -> Result<()> {
+/// `run`: preflight (reporting to `progress`), open (or continue) the subject's log, then the
+/// window.
+pub fn launch(args: &LaunchOptions, progress: &dyn Progress) -> Result<()> {
     let design = Design::load(&args.design)?;
     let report = preflight(
         &design,
         PreflightOptions {
             check_hashes: args.check_hashes,
-            progress: true,
         },
+        progress,
     );
     let manifest_path = report.manifest_path.clone();
     let manifest = report.into_result()?;

@@ -4,10 +4,10 @@
 
 use crate::contact_sheet::{self, Rect, Tile};
 use crate::display_convergence::{self as dc, Criterion, Plan};
+use crate::progress::terminal::{Look, Terminal};
 use crate::scene::Scene;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 
 /// Render a scene's levels on a few frames and compare them, as display frames, with a
@@ -113,17 +113,10 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         .sheet_point_set
         .clone()
         .unwrap_or_else(|| plan.point_sets[0].clone());
-    let bar = (!args.no_progress).then(|| {
-        let b = ProgressBar::new(dc::samples(&scene, &plan));
-        b.set_style(
-            ProgressStyle::with_template("{bar:40} {percent}% samples, {elapsed} (eta {eta})")
-                .expect("valid template"),
-        );
-        b
-    });
+    let bar = Terminal::new(Look::Converge, !args.no_progress);
     let mut tiles: Vec<Result<Tile>> = Vec::new();
     let mut reference_tile = None;
-    let rows = dc::measure(&scene, &plan, bar.as_ref(), |r| {
+    let rows = dc::measure(&scene, &plan, &bar, |r| {
         if args.sheet.is_none() || r.frame != sheet_frame {
             return;
         }
@@ -138,9 +131,6 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
             Some(_) => tiles.push(tile),
         }
     })?;
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
     let verdicts = dc::judge(&rows, &Criterion::thesis());
     println!(
         "{}: {} x {}, frames {:?}, time filter {}, against {} spp {}, seed {}\n",

@@ -3,6 +3,7 @@
 
 use crate::job::slurm::{SlurmOptions, script};
 use crate::job::{Finalize, Job, RunOptions, Shard};
+use crate::progress::terminal::{Look, Terminal};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -59,7 +60,6 @@ pub fn run(args: JobArgs) -> Result<()> {
     let opts = RunOptions {
         out_dir: args.out.clone(),
         shard,
-        progress: !args.no_progress,
         finalize: if args.finalize {
             Finalize::Only
         } else if args.no_finalize {
@@ -68,7 +68,8 @@ pub fn run(args: JobArgs) -> Result<()> {
             Finalize::Auto
         },
     };
-    let report = crate::job::run(&job, &opts)?;
+    let bar = Terminal::new(Look::Job, !args.no_progress);
+    let report = crate::job::run(&job, &opts, &bar)?;
     println!(
         "{}: rendered {} frames, {} already done, {} missing in the job",
         report.job_dir.display(),

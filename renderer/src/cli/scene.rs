@@ -1,6 +1,7 @@
 //! `render scene <scene.json | scene.scene> --spp N --out DIR [--frames a..b] [--exr]`: render a scene's
 //! frames with its own settings (or the sampling given here) into a folder.
 
+use crate::progress::terminal::{Look, Terminal};
 use crate::render::sequence::{SequenceOptions, render_sequence};
 use crate::scene::Scene;
 use anyhow::{Result, bail};
@@ -107,9 +108,9 @@ pub fn run(args: SceneArgs) -> Result<()> {
         frames,
         seed: args.seed,
         exr: args.exr,
-        progress: !args.no_progress,
     };
-    let report = render_sequence(&scene, &sampling, &opts)?;
+    let bar = Terminal::new(Look::Sequence, !args.no_progress);
+    let report = render_sequence(&scene, &sampling, &opts, &bar)?;
     let secs = report.render_seconds.max(1e-9);
     println!(
         "{}: {} frames of {}x{} at {} spp in {:.2} s ({:.2} M samples/s, {:.2} M rays/s)",

@@ -19,6 +19,7 @@ use super::{Job, expand};
 use crate::film::RenderedFrame;
 use crate::frame_io::{exr as linear_frame, names, png::png_bytes};
 use crate::manifest::Manifest;
+use crate::progress::Progress;
 use crate::sampling::SamplingConfig;
 use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
@@ -42,18 +43,15 @@ pub struct RunOptions {
     /// Root of stimulus sets; the job renders into `out_dir/<job name>/`.
     pub out_dir: PathBuf,
     pub shard: Shard,
-    /// Show an overall progress bar on stderr.
-    pub progress: bool,
     pub finalize: Finalize,
 }
 
 impl RunOptions {
-    /// The whole job into `out_dir`, with progress, finalizing at the end.
+    /// The whole job into `out_dir`, finalizing at the end.
     pub fn new(out_dir: impl Into<PathBuf>) -> Self {
         Self {
             out_dir: out_dir.into(),
             shard: Shard::WHOLE,
-            progress: true,
             finalize: Finalize::Auto,
         }
     }
@@ -158,11 +156,13 @@ impl Plan {
 }
 
 /// Render (this shard of) a job whose scenes are given as frame sources, one per
-/// `job.scenes` entry, then finalize if every frame exists (per `opts.finalize`).
+/// `job.scenes` entry, then finalize if every frame exists (per `opts.finalize`); `progress`
+/// counts the samples of the frames left to render and names the frame under way.
 pub fn run_with_sources(
     job: &Job,
     sources: &[Box<dyn FrameSource>],
     opts: &RunOptions,
+    progress: &dyn Progress,
 ) -> Result<RunReport> {
     let plan = Plan::new(job, sources)?;
     let job_dir = opts.out_dir.join(&job.name);
@@ -181,7 +181,16 @@ pub fn run_with_sources(
     };
     if opts.finalize != Finalize::Only {
         let mine = shard::assign(&plan.units, opts.shard);
-        render_units(job, &plan, sources, &job_dir, &mine, opts, &mut report)?;
+        render_units(
+            job,
+            &plan,
+            sources,
+            &job_dir,
+            &mine,
+            opts,
+            progress,
+            &mut report,
+        )?;
     }
     report.frames_missing = missing_frames(job, &plan, &job_dir).len() as u64;
     let finalize = match opts.finalize {
@@ -265,6 +274,7 @@ fn stamp_stimuli(job: &Job, plan: &Plan, job_dir: &Path) -> Result<()> {
     crate::atomic::write_atomic(&copy, &text)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn render_units(
     job: &Job,
     plan: &Plan,
@@ -272,6 +282,7 @@ fn render_units(
     job_dir: &Path,
     mine: &[usize],
     opts: &RunOptions,
+    progress: &dyn Progress,
     report: &mut RunReport,
 ) -> Result<()> {
     // Work out what is left before starting, so the bar's total is right.
@@ -293,10 +304,10 @@ fn render_units(
         u.width as u64 * u.height as u64 * plan.specs[s].sampling.spp as u64
     };
     let total: u64 = todo.iter().map(|&(s, _)| cost(s)).sum();
-    let bar = progress_bar(opts.progress, total);
+    progress.start(total);
     let mut render = |n: usize, s: usize, f: u32| -> Result<(RenderedFrame, f64)> {
         let spec = &plan.specs[s];
-        bar.set_message(format!(
+        progress.message(&format!(
             "frame {}/{} of shard {}: {} #{f}",
             n + 1,
             todo.len(),
@@ -305,7 +316,7 @@ fn render_units(
         ));
         let out = render_frame(plan, sources, s, f)?;
         report.frames_rendered += 1;
-        bar.inc(cost(s));
+        progress.advance(cost(s));
         Ok(out)
     };
     // With more than one rayon thread, frame k's files are encoded, measured and written on a
@@ -316,22 +327,8 @@ fn render_units(
         |n, (s, f)| Ok((s, f, render(n, s, f)?)),
         |(s, f, (rendered, seconds))| write_frame(job, plan, job_dir, s, f, &rendered, seconds),
     )?;
-    bar.finish_and_clear();
+    progress.finish();
     Ok(())
-}
-
-fn progress_bar(show: bool, total: u64) -> indicatif::ProgressBar {
-    if !show {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(total);
-    let style = indicatif::ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:30}] {percent:>3}% of samples, eta {eta} | {msg}",
-    )
-    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar())
-    .progress_chars("=> ");
-    bar.set_style(style);
-    bar
 }
 
 /// Render one frame of stimulus `s`; the seconds it took.

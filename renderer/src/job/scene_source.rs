@@ -153,7 +153,7 @@ impl FrameSource for SceneSource {
             &self.sampling(sampling),
             seed,
             self.first_frame + frame,
-            None,
+            &crate::progress::NoProgress,
         )?;
         Ok(film.develop(scene.settings.exposure))
     }
@@ -189,8 +189,12 @@ fn synthetic(text: &str, path: &Path, o: &Overrides) -> Result<Box<dyn FrameSour
 }
 
 /// Render (this shard of) a job; see [`runner::run_with_sources`].
-pub fn run(job: &Job, opts: &runner::RunOptions) -> Result<runner::RunReport> {
-    runner::run_with_sources(job, &load_sources(job)?, opts)
+pub fn run(
+    job: &Job,
+    opts: &runner::RunOptions,
+    progress: &dyn crate::progress::Progress,
+) -> Result<runner::RunReport> {
+    runner::run_with_sources(job, &load_sources(job)?, opts, progress)
 }
 
 /// Count a job's work and estimate its time; see [`super::dry_run_with_sources`].

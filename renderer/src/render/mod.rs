@@ -9,12 +9,12 @@ pub mod sequence;
 use crate::accel::World;
 use crate::film::Film;
 use crate::geometry::Ray;
+use crate::progress::Progress;
 use crate::sampling::{FrameSampler, SamplingConfig};
 use crate::scene::Scene;
 use crate::shading::Tracer;
 use anyhow::Result;
 use glam::Vec3;
-use indicatif::ProgressBar;
 use rayon::prelude::*;
 
 /// Counts from one frame.
@@ -49,7 +49,7 @@ pub fn render_frame(
     sampling: &SamplingConfig,
     seed: u64,
     frame: u32,
-    progress: Option<&ProgressBar>,
+    progress: &dyn Progress,
 ) -> Result<(Film, FrameStats)> {
     let sampler = FrameSampler::new(sampling, seed, frame)?;
     let shutter = scene.settings.shutter(frame);
@@ -71,9 +71,7 @@ pub fn render_frame(
                 stats.non_finite += non_finite;
             }
             stats.rays = tracer.rays();
-            if let Some(p) = progress {
-                p.inc(stats.samples);
-            }
+            progress.advance(stats.samples);
             (pixels, stats)
         })
         .collect();
