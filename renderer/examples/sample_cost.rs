@@ -28,7 +28,7 @@ struct Args {
     spp: Option<u32>,
     /// Point set (default: the scene's).
     #[arg(long)]
-    point_set: Option<String>,
+    point_set: Option<renderer::condition::PointSetKind>,
     #[arg(long, default_value_t = 0)]
     frame: u32,
     #[arg(long, default_value_t = 5)]
@@ -49,8 +49,8 @@ fn main() -> Result<()> {
     let scene = Scene::load(&args.scene)?;
     let mut sampling = scene.settings.sampling.clone();
     sampling.spp = args.spp.unwrap_or(sampling.spp);
-    if let Some(p) = &args.point_set {
-        sampling.point_set = p.clone();
+    if let Some(p) = args.point_set {
+        sampling.point_set = p;
     }
     // One rayon thread, and the timing taken on it: rows run on the pool's thread.
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;

@@ -6,6 +6,7 @@ pub mod atomic;
 pub mod bvh;
 pub mod camera;
 pub mod cli;
+pub mod condition;
 pub mod contact_sheet;
 pub mod convergence;
 pub mod convert;

@@ -48,3 +48,18 @@ fn lower_layers_do_not_import_the_job_or_command_line_layers() {
     }
     assert!(upward.is_empty(), "upward imports:\n{}", upward.join("\n"));
 }
+
+/// The condition types (point set, time filter, spatial filter, `Condition`) import nothing of
+/// the crate: the experiment and the analysis use them without the tracer.
+#[test]
+fn the_condition_types_stand_alone() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/condition.rs");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let imports: Vec<&str> = text
+        .lines()
+        .map(|line| line.split("//").next().unwrap_or(""))
+        .filter(|code| code.contains("crate::") || code.contains("super::"))
+        .filter(|code| !code.contains("use super::*;"))
+        .collect();
+    assert!(imports.is_empty(), "condition.rs imports {imports:?}");
+}

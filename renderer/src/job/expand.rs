@@ -7,6 +7,7 @@
 //! set and time filter — which is then its own reference.
 
 use super::{Job, Reference};
+use crate::condition::{PointSetKind, TimeFilter};
 use crate::hash;
 use crate::sampling::SamplingConfig;
 
@@ -34,8 +35,14 @@ impl StimulusSpec {
     }
 }
 
-/// The id of a test stimulus. Levels are zero-padded to four digits so ids sort by level.
-pub fn stimulus_id(scene: &str, point_set: &str, time_filter: &str, spp: u32) -> String {
+/// The id of a test stimulus, from the names of its scene, point set and time filter. Levels
+/// are zero-padded to four digits so ids sort by level.
+pub fn stimulus_id(
+    scene: &str,
+    point_set: PointSetKind,
+    time_filter: TimeFilter,
+    spp: u32,
+) -> String {
     format!("{scene}-{point_set}-{time_filter}-{spp:04}")
 }
 
@@ -63,8 +70,8 @@ pub fn expand(job: &Job) -> Vec<StimulusSpec> {
         if let Reference::Independent(r) = &job.reference {
             push(reference_id(&scene.name), r.clone(), None);
         }
-        for ps in &job.point_sets {
-            for tf in &job.time_filters {
+        for &ps in &job.point_sets {
+            for &tf in &job.time_filters {
                 let against = match job.reference {
                     Reference::Independent(_) => reference_id(&scene.name),
                     Reference::HighestLevel => {
@@ -102,12 +109,12 @@ mod tests {
                 })
                 .collect(),
             levels,
-            point_sets: point_sets.iter().map(|s| s.to_string()).collect(),
-            time_filters: vec!["truncated_box".into(), "box".into()],
+            point_sets: point_sets.iter().map(|s| s.parse().unwrap()).collect(),
+            time_filters: vec![TimeFilter::TruncatedBox, TimeFilter::Box],
             reference: Reference::Independent(SamplingConfig {
-                point_set: "hammersley".into(),
+                point_set: PointSetKind::Hammersley,
                 spp: 1000,
-                time_filter: "truncated_box".into(),
+                time_filter: TimeFilter::TruncatedBox,
                 ..Default::default()
             }),
             seed: 42,
@@ -168,7 +175,7 @@ mod tests {
                 &spec.sampling.point_set,
                 &spec.sampling.time_filter,
             );
-            let want = stimulus_id(scene, ps, tf, 64);
+            let want = stimulus_id(scene, *ps, *tf, 64);
             assert_eq!(
                 spec.reference_id.as_deref(),
                 Some(want.as_str()),
