@@ -295,7 +295,8 @@ pub(crate) mod tests {
 
     #[test]
     fn round_trips_and_refuses_bad_files_naming_the_line() {
-        let t = PredictedTable::from_rows(vec![row("a", "b", 8, 1.0), row("a", "b", 27, 0.5)]);
+        let t =
+            PredictedTable::from_rows(vec![row("a", "sobol", 8, 1.0), row("a", "sobol", 27, 0.5)]);
         let text = t.to_csv().unwrap();
         let back = PredictedTable::parse(Path::new("p.csv"), &text).unwrap();
         assert_eq!(back, t);

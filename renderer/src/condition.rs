@@ -244,7 +244,10 @@ mod tests {
         let mut names = PointSetKind::ALL.map(PointSetKind::name);
         names.sort();
         assert_eq!(sets.map(PointSetKind::name), names);
-        assert!(TimeFilter::Triangle > TimeFilter::TruncatedBox);
+        assert!(
+            TimeFilter::Triangle < TimeFilter::TruncatedBox,
+            "as \"triangle\" < \"truncated_box\""
+        );
         assert_eq!(
             format!("{:?}", TimeFilter::TruncatedBox),
             "\"truncated_box\""

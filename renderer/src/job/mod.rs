@@ -94,9 +94,14 @@ impl<'de> Deserialize<'de> for ReferenceSpec {
         use serde::de::Error;
         match serde_json::Value::deserialize(d)? {
             serde_json::Value::String(s) if s == HIGHEST_LEVEL => Ok(ReferenceSpec::HighestLevel),
-            v @ serde_json::Value::Object(_) => serde_json::from_value(v)
+            // Through the path tracker, so that a bad name inside says where (the outer
+            // reader's path stops at `reference`).
+            v @ serde_json::Value::Object(_) => serde_path_to_error::deserialize(v)
                 .map(ReferenceSpec::Independent)
-                .map_err(D::Error::custom),
+                .map_err(|e| match e.path().to_string().as_str() {
+                    "." | "" => D::Error::custom(e.into_inner()),
+                    at => D::Error::custom(format!("in `{at}`: {}", e.into_inner())),
+                }),
             other => Err(D::Error::custom(format!(
                 "found {other}; expected \"{HIGHEST_LEVEL}\" or an independent reference \
                  {{\"spp\": N, \"point_set\": ..., \"time_filter\": ...}}"
@@ -597,7 +602,7 @@ mod tests {
             (
                 "{\"spp\": 64}",
                 "{\"spp\": 64, \"point_set\": \"jittered\"}",
-                "`reference.point_set`",
+                "`reference`: in `point_set`",
                 "sobol, halton",
             ),
         ] {
