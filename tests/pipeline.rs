@@ -151,7 +151,12 @@ fn check_manifest(inputs: &Inputs) -> Manifest {
         assert_eq!(reference.spp, REFERENCE_SPP);
         for ps in POINT_SETS {
             let error = |level: u32| {
-                let id = renderer::job::expand::stimulus_id(scene, ps, TIME_FILTER, level);
+                let id = renderer::job::expand::stimulus_id(
+                    scene,
+                    ps.parse().unwrap(),
+                    TIME_FILTER.parse().unwrap(),
+                    level,
+                );
                 let s = manifest.get(&id).expect("every level rendered");
                 s.error
                     .clone()
@@ -187,7 +192,8 @@ fn check_logs(design: &Design, manifest: &Manifest, logs: &[PathBuf]) {
             main.len(),
             SCENES.len() * POINT_SETS.len() * LEVELS.len() * 2
         );
-        let mut cells: BTreeMap<(String, String, u32), u32> = BTreeMap::new();
+        let mut cells: BTreeMap<(String, renderer::condition::PointSetKind, u32), u32> =
+            BTreeMap::new();
         for t in &log.trials {
             let test = manifest
                 .get(&t.test_stimulus)
@@ -203,7 +209,7 @@ fn check_logs(design: &Design, manifest: &Manifest, logs: &[PathBuf]) {
             assert_eq!(t.correct, t.response == t.diff_pair);
             if !t.practice {
                 *cells
-                    .entry((t.scene.clone(), t.point_set.clone(), t.level))
+                    .entry((t.scene.clone(), t.point_set, t.level))
                     .or_default() += 1;
             }
         }
@@ -370,8 +376,8 @@ fn library_chain_hands_each_part_the_previous_parts_files() {
     // the message names the stimulus.
     let victim = manifest.get(&renderer::job::expand::stimulus_id(
         "spheres",
-        "hammersley",
-        TIME_FILTER,
+        renderer::condition::PointSetKind::Hammersley,
+        TIME_FILTER.parse().unwrap(),
         8,
     ));
     let victim = victim.expect("stimulus");

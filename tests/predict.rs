@@ -25,13 +25,13 @@ fn row(scene: usize, ps: usize, spp: u32, k: f64) -> PredictedRow {
     let p = two_pair_p_correct(k * q);
     PredictedRow {
         scene: SCENES[scene].0.into(),
-        point_set: POINT_SETS[ps].into(),
-        time_filter: TIME_FILTER.into(),
+        point_set: POINT_SETS[ps].parse().unwrap(),
+        time_filter: TIME_FILTER.parse().unwrap(),
         spp,
         test_stimulus: renderer::job::expand::stimulus_id(
             SCENES[scene].0,
-            POINT_SETS[ps],
-            TIME_FILTER,
+            POINT_SETS[ps].parse().unwrap(),
+            TIME_FILTER.parse().unwrap(),
             spp,
         ),
         reference_stimulus: format!("{}-reference", SCENES[scene].0),

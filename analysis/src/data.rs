@@ -213,7 +213,9 @@ pub struct Dataset {
     pub excluded: Vec<Exclusion>,
 }
 
-/// One analyzed trial, reduced to what aggregation needs.
+/// One analyzed trial, reduced to what aggregation needs. The factors are names, not a
+/// [`renderer::condition::Condition`]: a counts table holds data collected elsewhere, whose
+/// point sets and time filters may be any names (a log's are checked when it is read).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Observation {
     pub subject: String,
@@ -348,8 +350,8 @@ impl Dataset {
                 obs.push(Observation {
                     subject: log.header.subject.clone(),
                     scene: t.scene.clone(),
-                    point_set: t.point_set.clone(),
-                    time_filter: t.time_filter.clone(),
+                    point_set: t.point_set.to_string(),
+                    time_filter: t.time_filter.to_string(),
                     level: t.level,
                     correct: t.correct,
                 });

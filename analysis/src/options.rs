@@ -102,8 +102,8 @@ impl AnalyzeOptions {
             let f = &d.file.factors;
             s.comparisons.order = PairOrder {
                 scenes: f.scenes.clone(),
-                point_sets: f.point_sets.clone(),
-                time_filters: f.time_filters.clone(),
+                point_sets: f.point_sets.iter().map(|p| p.to_string()).collect(),
+                time_filters: f.time_filters.iter().map(|t| t.to_string()).collect(),
             };
         }
         Ok(s)

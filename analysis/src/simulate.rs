@@ -13,6 +13,7 @@ use crate::sigmoid::Sigmoid;
 use anyhow::Result;
 use experiment::log::LOG_FORMAT;
 use experiment::observer::p_correct;
+use renderer::condition::{PointSetKind, TimeFilter};
 use renderer::hash::{hash, name_id, unit_f64};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -51,8 +52,8 @@ pub struct StudySpec {
     /// Scene name and its true pooled threshold (spp at p = 0.75).
     pub scenes: Vec<(String, f64)>,
     /// Point-set name and a factor on the threshold.
-    pub point_sets: Vec<(String, f64)>,
-    pub time_filter: String,
+    pub point_sets: Vec<(PointSetKind, f64)>,
+    pub time_filter: TimeFilter,
     pub levels: Vec<u32>,
     pub repeats: u32,
     /// Logistic slope in 1 / ln spp.
@@ -72,11 +73,11 @@ impl StudySpec {
             subjects: 12,
             scenes: vec![("plane".into(), 40.0), ("spheres".into(), 100.0)],
             point_sets: vec![
-                ("hammersley".into(), 1.0),
-                ("poisson".into(), 1.0),
-                ("stratified".into(), 1.0),
+                (PointSetKind::Hammersley, 1.0),
+                (PointSetKind::Poisson, 1.0),
+                (PointSetKind::Stratified, 1.0),
             ],
-            time_filter: "truncated_box".into(),
+            time_filter: TimeFilter::TruncatedBox,
             levels: vec![1, 8, 27, 64, 125, 216, 343, 512],
             repeats: 4,
             slope: 1.5,
@@ -111,7 +112,7 @@ impl StudySpec {
             &[
                 subject as u64,
                 name_id(&self.scenes[scene].0),
-                name_id(&self.point_sets[ps].0),
+                name_id(self.point_sets[ps].0.name()),
                 level as u64,
                 rep as u64,
             ],
@@ -127,8 +128,8 @@ impl StudySpec {
                 out.push(Observation {
                     subject: self.subject_name(s),
                     scene: self.scenes[sc].0.clone(),
-                    point_set: self.point_sets[ps].0.clone(),
-                    time_filter: self.time_filter.clone(),
+                    point_set: self.point_sets[ps].0.to_string(),
+                    time_filter: self.time_filter.to_string(),
                     level,
                     correct: self.correct(s, sc, ps, level, rep),
                 });

@@ -108,8 +108,16 @@ fn manifest_problem(t: &TrialRecord, m: &Manifest) -> Option<String> {
     let s = m.get(&t.test_stimulus)?;
     let rendered = [
         ("scene", s.scene.clone(), t.scene.clone()),
-        ("point_set", s.point_set.clone(), t.point_set.clone()),
-        ("time_filter", s.time_filter.clone(), t.time_filter.clone()),
+        (
+            "point_set",
+            s.point_set.to_string(),
+            t.point_set.to_string(),
+        ),
+        (
+            "time_filter",
+            s.time_filter.to_string(),
+            t.time_filter.to_string(),
+        ),
         ("level", s.spp.to_string(), t.level.to_string()),
     ];
     let (field, want, got) = rendered.into_iter().find(|(_, want, got)| want != got)?;
@@ -153,13 +161,13 @@ fn plan_problem(t: &TrialRecord, planned: Option<&Trial>, subject: &str) -> Opti
         ("scene", t.scene.clone(), p.condition.scene.clone()),
         (
             "point_set",
-            t.point_set.clone(),
-            p.condition.point_set.clone(),
+            t.point_set.to_string(),
+            p.condition.point_set.to_string(),
         ),
         (
             "time_filter",
-            t.time_filter.clone(),
-            p.condition.time_filter.clone(),
+            t.time_filter.to_string(),
+            p.condition.time_filter.to_string(),
         ),
         ("level", t.level.to_string(), p.level.to_string()),
         (

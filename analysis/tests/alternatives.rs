@@ -176,7 +176,7 @@ fn boot(resamples: usize) -> BootstrapSettings {
 
 const DESIGN: &str = r#"{
     "format": "blurlab-design/1", "name": "four", "manifest": "none",
-    "factors": {"scenes": ["b", "a"], "point_sets": ["p"], "time_filters": ["none"]},
+    "factors": {"scenes": ["b", "a"], "point_sets": ["sobol"], "time_filters": ["box"]},
     "levels": [1, 8, 27, 64, 125, 216, 343, 512],
     "task": {"alternatives": 4},
     "seed": {"master": 1}
@@ -195,7 +195,7 @@ fn write_table(path: &Path) {
             let c = simulate_curve(&m, &LEVELS, 8, 9, &[s, jnd as u64]);
             for p in &c.points {
                 text.push_str(&format!(
-                    "s{s},{scene},p,none,{},{},{}\n",
+                    "s{s},{scene},sobol,box,{},{},{}\n",
                     p.level, p.correct, p.trials
                 ));
             }

@@ -215,7 +215,7 @@ fn one_scene_and_one_point_set_give_an_empty_ttest_table_with_its_header() {
     let spec = StudySpec {
         subjects: 3,
         scenes: vec![("plane".into(), 40.0)],
-        point_sets: vec![("sobol".into(), 1.0)],
+        point_sets: vec![(renderer::condition::PointSetKind::Sobol, 1.0)],
         ..StudySpec::thesis()
     };
     spec.write_logs(&dir.path().join("s"), "h").unwrap();

@@ -6,6 +6,7 @@
 
 use crate::keys::{self, RESERVED_KEYS};
 use anyhow::{Result, bail};
+use renderer::condition::{Condition, PointSetKind, TimeFilter};
 use renderer::paths::lexical_normal;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
@@ -68,8 +69,8 @@ pub struct DesignFile {
 #[serde(deny_unknown_fields)]
 pub struct Factors {
     pub scenes: Vec<String>,
-    pub point_sets: Vec<String>,
-    pub time_filters: Vec<String>,
+    pub point_sets: Vec<PointSetKind>,
+    pub time_filters: Vec<TimeFilter>,
 }
 
 /// The reference video each test video is shown beside.
@@ -276,14 +277,14 @@ impl Design {
     }
 
     /// The reference stimulus id of a condition (scene, point set, time filter).
-    pub fn reference_id(&self, scene: &str, point_set: &str, time_filter: &str) -> String {
+    pub fn reference_id(&self, c: &Condition) -> String {
         match &self.file.reference {
-            ReferenceChoice::SceneReference => renderer::ids::reference_id(scene),
+            ReferenceChoice::SceneReference => renderer::ids::reference_id(&c.scene),
             ReferenceChoice::HighestLevel => {
                 let top = self.file.levels.iter().copied().max().unwrap_or(0);
-                renderer::ids::stimulus_id(scene, point_set, time_filter, top)
+                renderer::ids::stimulus_id(&c.scene, c.point_set, c.time_filter, top)
             }
-            ReferenceChoice::Stimuli(m) => m[scene].clone(),
+            ReferenceChoice::Stimuli(m) => m[&c.scene].clone(),
         }
     }
 
@@ -457,13 +458,13 @@ fn is_name_char(c: char) -> bool {
     c.is_ascii_alphanumeric() || c == '-' || c == '_'
 }
 
-fn names(field: &str, list: &[String]) -> Result<()> {
+fn names<T: Ord + std::fmt::Debug + std::fmt::Display>(field: &str, list: &[T]) -> Result<()> {
     if list.is_empty() {
         bail!("field `{field}` is empty; expected at least one name");
     }
     let mut seen = BTreeSet::new();
     for n in list {
-        if n.is_empty() {
+        if n.to_string().is_empty() {
             bail!("field `{field}` holds an empty name");
         }
         if !seen.insert(n) {
@@ -491,6 +492,14 @@ fn levels(field: &str, list: &[u32]) -> Result<()> {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
+
+    fn cond(scene: &str, point_set: &str, time_filter: &str) -> Condition {
+        Condition::new(
+            scene,
+            point_set.parse().unwrap(),
+            time_filter.parse().unwrap(),
+        )
+    }
 
     pub(crate) const SMALL: &str = r#"{
         "format": "blurlab-design/1",
@@ -532,7 +541,10 @@ pub(crate) mod tests {
         assert_eq!(d.file.playback, Playback::default());
         assert_eq!(d.practice_levels(), vec![1]);
         assert_eq!(d.main_trial_count(), 2 * 2 * 3 * 3);
-        assert_eq!(d.reference_id("plane", "poisson", "box"), "plane-reference");
+        assert_eq!(
+            d.reference_id(&cond("plane", "poisson", "box")),
+            "plane-reference"
+        );
         assert_ne!(d.subject_seed("a"), d.subject_seed("b"));
     }
 
@@ -572,7 +584,7 @@ pub(crate) mod tests {
                 "`factors.scenes`",
             ),
             (
-                edit(|v| v["factors"]["point_sets"] = serde_json::json!(["a", "a"])),
+                edit(|v| v["factors"]["point_sets"] = serde_json::json!(["sobol", "sobol"])),
                 "`factors.point_sets`",
             ),
             (
@@ -641,7 +653,10 @@ pub(crate) mod tests {
             v["seed"] = serde_json::json!({"master": 9, "scheme": "shared"});
         });
         let d = Design::parse(Path::new("d.json"), &text).unwrap();
-        assert_eq!(d.reference_id("spheres", "hammersley", "box"), "spheres-y");
+        assert_eq!(
+            d.reference_id(&cond("spheres", "hammersley", "box")),
+            "spheres-y"
+        );
         assert_eq!(d.subject_seed("a"), 9);
         assert_eq!(d.subject_seed("b"), 9);
     }
@@ -654,11 +669,11 @@ pub(crate) mod tests {
         )
         .unwrap();
         assert_eq!(
-            d.reference_id("plane", "poisson", "box"),
+            d.reference_id(&cond("plane", "poisson", "box")),
             "plane-poisson-box-0027"
         );
         assert_eq!(
-            d.reference_id("spheres", "hammersley", "box"),
+            d.reference_id(&cond("spheres", "hammersley", "box")),
             "spheres-hammersley-box-0027"
         );
     }

@@ -7,6 +7,7 @@
 //! naming the file and line number.
 
 use anyhow::{Context, Result, bail};
+use renderer::condition::{Condition, PointSetKind, TimeFilter};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -97,8 +98,8 @@ pub struct TrialRecord {
     /// Practice trials are logged but never analyzed.
     pub practice: bool,
     pub scene: String,
-    pub point_set: String,
-    pub time_filter: String,
+    pub point_set: PointSetKind,
+    pub time_filter: TimeFilter,
     /// The test video's samples per pixel.
     pub level: u32,
     pub test_stimulus: String,
@@ -127,6 +128,14 @@ pub struct TrialRecord {
     /// Milliseconds spent loading the trial's frames before it could start (0 when simulated).
     #[serde(default)]
     pub preload_ms: f64,
+}
+
+impl TrialRecord {
+    /// The trial's condition. (The record keeps scene, point set and time filter as its own
+    /// fields, in the order logs have always had them.)
+    pub fn condition(&self) -> Condition {
+        Condition::new(self.scene.clone(), self.point_set, self.time_filter)
+    }
 }
 
 /// A whole log read back.
@@ -310,8 +319,8 @@ mod tests {
             index,
             practice: false,
             scene: "plane".into(),
-            point_set: "hammersley".into(),
-            time_filter: "truncated_box".into(),
+            point_set: PointSetKind::Hammersley,
+            time_filter: TimeFilter::TruncatedBox,
             level: 8,
             test_stimulus: "t".into(),
             reference_stimulus: "r".into(),

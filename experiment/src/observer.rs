@@ -19,6 +19,7 @@ use crate::design::Design;
 use crate::predicted::PredictedTable;
 use crate::trials::{Condition, Trial, conditions};
 use anyhow::{Context, Result, bail};
+use renderer::condition::{PointSetKind, TimeFilter};
 use renderer::hash::{hash, name_id, unit_f64};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -82,18 +83,17 @@ pub struct ThresholdRule {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub point_set: Option<String>,
+    pub point_set: Option<PointSetKind>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub time_filter: Option<String>,
+    pub time_filter: Option<TimeFilter>,
     pub spp: f64,
 }
 
 impl ThresholdRule {
     fn matches(&self, c: &Condition) -> bool {
-        let ok = |rule: &Option<String>, v: &str| rule.as_deref().is_none_or(|r| r == v);
-        ok(&self.scene, &c.scene)
-            && ok(&self.point_set, &c.point_set)
-            && ok(&self.time_filter, &c.time_filter)
+        self.scene.as_ref().is_none_or(|r| *r == c.scene)
+            && self.point_set.is_none_or(|r| r == c.point_set)
+            && self.time_filter.is_none_or(|r| r == c.time_filter)
     }
 }
 
@@ -359,11 +359,7 @@ mod tests {
     }"#;
 
     fn cond(scene: &str, ps: &str) -> Condition {
-        Condition {
-            scene: scene.into(),
-            point_set: ps.into(),
-            time_filter: "box".into(),
-        }
+        Condition::new(scene, ps.parse().unwrap(), TimeFilter::Box)
     }
 
     #[test]

@@ -19,6 +19,7 @@
 
 use crate::trials::Condition;
 use anyhow::{Context, Result, bail};
+use renderer::condition::{PointSetKind, TimeFilter};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -38,8 +39,8 @@ pub fn format_line() -> String {
 #[serde(deny_unknown_fields)]
 pub struct PredictedRow {
     pub scene: String,
-    pub point_set: String,
-    pub time_filter: String,
+    pub point_set: PointSetKind,
+    pub time_filter: TimeFilter,
     /// Samples per pixel of the test video.
     pub spp: u32,
     pub test_stimulus: String,
@@ -57,6 +58,14 @@ pub struct PredictedRow {
     pub p_frame_max: f64,
     /// Frames compared.
     pub frames: u32,
+}
+
+impl PredictedRow {
+    /// The row's condition. (The table keeps scene, point set and time filter as its first
+    /// three columns.)
+    pub fn condition(&self) -> Condition {
+        Condition::new(self.scene.clone(), self.point_set, self.time_filter)
+    }
 }
 
 /// The two-pair task's proportion correct at separation `d_prime` (differencing rule).
@@ -170,11 +179,7 @@ impl PredictedTable {
     pub fn from_rows(rows: Vec<PredictedRow>) -> Self {
         let mut curves: BTreeMap<Condition, Curve> = BTreeMap::new();
         for r in &rows {
-            let c = Condition {
-                scene: r.scene.clone(),
-                point_set: r.point_set.clone(),
-                time_filter: r.time_filter.clone(),
-            };
+            let c = r.condition();
             curves
                 .entry(c)
                 .or_insert(Curve { points: Vec::new() })
@@ -237,8 +242,8 @@ pub(crate) mod tests {
         let p = two_pair_p_correct(d);
         PredictedRow {
             scene: scene.into(),
-            point_set: ps.into(),
-            time_filter: "box".into(),
+            point_set: ps.parse().unwrap(),
+            time_filter: TimeFilter::Box,
             spp,
             test_stimulus: format!("{scene}-{ps}-box-{spp}"),
             reference_stimulus: format!("{scene}-reference"),
@@ -271,11 +276,11 @@ pub(crate) mod tests {
             .map(|s| row("plane", "poisson", s, 8.0 / (s as f64).sqrt()))
             .to_vec();
         let t = PredictedTable::from_rows(rows);
-        let c = t.curve(&Condition {
-            scene: "plane".into(),
-            point_set: "poisson".into(),
-            time_filter: "box".into(),
-        });
+        let c = t.curve(&Condition::new(
+            "plane",
+            PointSetKind::Poisson,
+            TimeFilter::Box,
+        ));
         let c = c.unwrap();
         for s in [0.5, 1.0, 3.0, 40.0, 200.0] {
             assert!((c.d_prime_at(s) - 8.0 / s.sqrt()).abs() < 1e-9, "{s}");
@@ -290,7 +295,8 @@ pub(crate) mod tests {
 
     #[test]
     fn round_trips_and_refuses_bad_files_naming_the_line() {
-        let t = PredictedTable::from_rows(vec![row("a", "b", 8, 1.0), row("a", "b", 27, 0.5)]);
+        let t =
+            PredictedTable::from_rows(vec![row("a", "sobol", 8, 1.0), row("a", "sobol", 27, 0.5)]);
         let text = t.to_csv().unwrap();
         let back = PredictedTable::parse(Path::new("p.csv"), &text).unwrap();
         assert_eq!(back, t);

@@ -8,6 +8,7 @@ use crate::design::Design;
 use crate::trials::conditions;
 use anyhow::Result;
 use rayon::prelude::*;
+use renderer::condition::{PointSetKind, TimeFilter};
 use renderer::manifest::{ContentHash, Manifest, Stimulus};
 use renderer::progress::Progress;
 use std::collections::BTreeMap;
@@ -20,7 +21,7 @@ pub struct Needed {
     pub id: String,
     pub scene: String,
     /// `None` for references (their sampling is the job's business).
-    pub test: Option<(String, String, u32)>,
+    pub test: Option<(PointSetKind, TimeFilter, u32)>,
     /// The manifest's reference flag must be set (the default scene references).
     pub must_be_reference: bool,
     /// The reference it is shown beside (tests only).
@@ -88,7 +89,7 @@ pub fn needed_stimuli(design: &Design) -> Vec<Needed> {
         crate::design::ReferenceChoice::SceneReference
     );
     for c in conditions(design) {
-        let reference_id = design.reference_id(&c.scene, &c.point_set, &c.time_filter);
+        let reference_id = design.reference_id(&c);
         out.entry(reference_id.clone()).or_insert(Needed {
             id: reference_id.clone(),
             scene: c.scene.clone(),
@@ -97,13 +98,13 @@ pub fn needed_stimuli(design: &Design) -> Vec<Needed> {
             reference_id: None,
         });
         for &level in &design.file.levels {
-            let id = renderer::ids::stimulus_id(&c.scene, &c.point_set, &c.time_filter, level);
+            let id = renderer::ids::stimulus_id(&c.scene, c.point_set, c.time_filter, level);
             out.insert(
                 id.clone(),
                 Needed {
                     id,
                     scene: c.scene.clone(),
-                    test: Some((c.point_set.clone(), c.time_filter.clone(), level)),
+                    test: Some((c.point_set, c.time_filter, level)),
                     must_be_reference: false,
                     reference_id: Some(reference_id.clone()),
                 },

@@ -14,13 +14,8 @@ use rand::seq::SliceRandom;
 use renderer::hash::{HashRng, hash};
 use renderer::ids::stimulus_id;
 
-/// One cell of the design (without the level).
-#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Condition {
-    pub scene: String,
-    pub point_set: String,
-    pub time_filter: String,
-}
+/// One cell of the design (without the level): the renderer's condition.
+pub use renderer::condition::Condition;
 
 /// One trial to present.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -58,9 +53,7 @@ impl Trial {
     pub fn matches(&self, r: &TrialRecord) -> bool {
         r.index == self.index
             && r.practice == self.practice
-            && r.scene == self.condition.scene
-            && r.point_set == self.condition.point_set
-            && r.time_filter == self.condition.time_filter
+            && r.condition() == self.condition
             && r.level == self.level
             && r.test_stimulus == self.test_stimulus
             && r.reference_stimulus == self.reference_stimulus
@@ -97,13 +90,9 @@ pub fn conditions(design: &Design) -> Vec<Condition> {
     let f = &design.file.factors;
     let mut out = Vec::new();
     for scene in &f.scenes {
-        for point_set in &f.point_sets {
-            for time_filter in &f.time_filters {
-                out.push(Condition {
-                    scene: scene.clone(),
-                    point_set: point_set.clone(),
-                    time_filter: time_filter.clone(),
-                });
+        for &point_set in &f.point_sets {
+            for &time_filter in &f.time_filters {
+                out.push(Condition::new(scene.clone(), point_set, time_filter));
             }
         }
     }
@@ -126,15 +115,11 @@ fn make_trial(design: &Design, condition: &Condition, level: u32, combo: (u8, Si
         practice: false,
         test_stimulus: stimulus_id(
             &condition.scene,
-            &condition.point_set,
-            &condition.time_filter,
+            condition.point_set,
+            condition.time_filter,
             level,
         ),
-        reference_stimulus: design.reference_id(
-            &condition.scene,
-            &condition.point_set,
-            &condition.time_filter,
-        ),
+        reference_stimulus: design.reference_id(condition),
         condition: condition.clone(),
         level,
         diff_pair: combo.0,
@@ -226,8 +211,9 @@ mod tests {
         v["repeats"] = repeats.into();
         v["levels"] = serde_json::json!((1..=levels as u32).map(|l| l * l * l).collect::<Vec<_>>());
         v["factors"]["point_sets"] = serde_json::json!(
-            (0..point_sets)
-                .map(|i| format!("ps{i}"))
+            renderer::condition::PointSetKind::ALL[..point_sets]
+                .iter()
+                .map(|p| p.name())
                 .collect::<Vec<_>>()
         );
         Design::parse(Path::new("d.json"), &v.to_string()).unwrap()

@@ -142,7 +142,7 @@ fn a_missing_manifest_is_one_clear_problem() {
     std::fs::write(
         &path,
         r#"{"format": "blurlab-design/1", "name": "x", "manifest": "nowhere/manifest.json",
-            "factors": {"scenes": ["a"], "point_sets": ["b"], "time_filters": ["c"]},
+            "factors": {"scenes": ["a"], "point_sets": ["sobol"], "time_filters": ["box"]},
             "levels": [1], "seed": {"master": 1}}"#,
     )
     .unwrap();

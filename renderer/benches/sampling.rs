@@ -40,7 +40,7 @@ fn frame_sampler_new(c: &mut Criterion) {
     g.sample_size(20);
     for (set, spp) in [("poisson", 512), ("poisson", 4096), ("hammersley", 512)] {
         let cfg = SamplingConfig {
-            point_set: set.into(),
+            point_set: set.parse().unwrap(),
             spp,
             ..Default::default()
         };
@@ -66,9 +66,9 @@ fn per_sample(c: &mut Criterion) {
     ];
     for (name, spatial, time) in configs {
         let cfg = SamplingConfig {
-            point_set: "hammersley".into(),
+            point_set: "hammersley".parse().unwrap(),
             spp: SPP,
-            time_filter: time.into(),
+            time_filter: time.parse().unwrap(),
             spatial_filter: Some(spatial),
             ..Default::default()
         };

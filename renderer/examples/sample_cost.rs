@@ -31,7 +31,7 @@ struct Args {
     spp: Option<u32>,
     /// Point set (default: the scene's).
     #[arg(long)]
-    point_set: Option<String>,
+    point_set: Option<renderer::condition::PointSetKind>,
     /// Per-pixel randomization, `shift` or `scramble` (default: the scene's).
     #[arg(long)]
     randomization: Option<String>,
@@ -55,8 +55,8 @@ fn main() -> Result<()> {
     let scene = Scene::load(&args.scene)?;
     let mut sampling = scene.settings.sampling.clone();
     sampling.spp = args.spp.unwrap_or(sampling.spp);
-    if let Some(p) = &args.point_set {
-        sampling.point_set = p.clone();
+    if let Some(p) = args.point_set {
+        sampling.point_set = p;
     }
     if let Some(r) = &args.randomization {
         sampling.randomization = Some(match r.as_str() {

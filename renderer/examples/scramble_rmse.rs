@@ -18,6 +18,7 @@
 
 use anyhow::{Result, ensure};
 use clap::Parser;
+use renderer::condition::{PointSetKind, TimeFilter};
 use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::sampling::{Randomization, SamplingConfig, Scope};
@@ -39,8 +40,8 @@ struct Args {
     #[arg(long, value_delimiter = ',', default_values_t = [8u32, 27, 64, 216])]
     levels: Vec<u32>,
     /// Point sets compared.
-    #[arg(long, value_delimiter = ',', default_values_t = ["random".to_string(), "stratified".into(), "hammersley".into(), "poisson".into(), "sobol".into(), "halton".into()])]
-    point_sets: Vec<String>,
+    #[arg(long, value_delimiter = ',', default_values_t = PointSetKind::ALL)]
+    point_sets: Vec<PointSetKind>,
     /// Seeds per configuration (1, 2, ...); the median RMSE is reported.
     #[arg(long, default_value_t = 5)]
     seeds: u64,
@@ -49,7 +50,7 @@ struct Args {
     reference_spp: u32,
     /// Time filter of every render.
     #[arg(long, default_value = "truncated_box")]
-    time_filter: String,
+    time_filter: TimeFilter,
     /// Also write every run as CSV.
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -65,13 +66,13 @@ mod thread_cpu;
 fn cost(args: &Args) -> Result<()> {
     use renderer::sampling::FrameSampler;
     println!("| point set | shift ns/sample | scramble ns/sample |\n|---|---|---|");
-    for ps in &args.point_sets {
+    for &ps in &args.point_sets {
         let mut cells = Vec::new();
         for r in [Randomization::Shift, Randomization::Scramble] {
             let cfg = SamplingConfig {
-                point_set: ps.clone(),
+                point_set: ps,
                 spp: 64,
-                time_filter: args.time_filter.clone(),
+                time_filter: args.time_filter,
                 randomization: Some(r),
                 ..Default::default()
             };
@@ -138,10 +139,10 @@ fn main() -> Result<()> {
     let still = moving.frozen_at(0.5 * (t0 + t1));
     let exposure = moving.settings.exposure;
     // The thesis job's scopes: new points and new per-pixel randomization every frame.
-    let config = |point_set: &str, spp: u32, r: Randomization| SamplingConfig {
-        point_set: point_set.into(),
+    let config = |point_set: PointSetKind, spp: u32, r: Randomization| SamplingConfig {
+        point_set,
         spp,
-        time_filter: args.time_filter.clone(),
+        time_filter: args.time_filter,
         point_set_scope: Some(Scope::Frame),
         shift_scope: Some(Scope::Frame),
         randomization: Some(r),
@@ -157,7 +158,11 @@ fn main() -> Result<()> {
         let t = std::time::Instant::now();
         let reference = develop(
             scene,
-            &config("stratified", args.reference_spp, Randomization::Shift),
+            &config(
+                PointSetKind::Stratified,
+                args.reference_spp,
+                Randomization::Shift,
+            ),
             0x7e7e_7e7e,
         )?;
         eprintln!("{name}: reference in {:.1} s", t.elapsed().as_secs_f64());
@@ -184,7 +189,7 @@ fn main() -> Result<()> {
                 for &spp in &args.levels {
                     let (mut h, mut c, mut mse) = (Vec::new(), Vec::new(), 0.0);
                     for seed in 1..=args.seeds {
-                        let img = develop(scene, &config(ps, spp, r), seed)?;
+                        let img = develop(scene, &config(*ps, spp, r), seed)?;
                         let (a, b) = rmse(&img, &reference);
                         writeln!(csv, "{name},{ps},{},{spp},{seed},{a},{b}", r.name())?;
                         h.push(a);

@@ -10,6 +10,7 @@
 //! pixel that one bright sample saturates at every level) fails the first two; one whose
 //! highest level still shows speckles fails the last.
 
+use crate::condition::{PointSetKind, TimeFilter};
 use crate::progress::Progress;
 use crate::render::render_frame;
 use crate::sampling::SamplingConfig;
@@ -22,10 +23,10 @@ use std::time::Instant;
 pub struct Plan {
     /// Samples per pixel of the levels, increasing.
     pub levels: Vec<u32>,
-    pub point_sets: Vec<String>,
-    pub time_filter: String,
+    pub point_sets: Vec<PointSetKind>,
+    pub time_filter: TimeFilter,
     /// The reference's point set and spp.
-    pub reference_point_set: String,
+    pub reference_point_set: PointSetKind,
     pub reference_spp: u32,
     /// Scene frames compared.
     pub frames: Vec<u32>,
@@ -38,16 +39,21 @@ pub struct Plan {
 /// The thesis's levels from 8 spp up (1 spp is one sample: nothing to converge yet).
 pub const THESIS_LEVELS: [u32; 7] = [8, 27, 64, 125, 216, 343, 512];
 
+/// The thesis's three point sets.
+pub const THESIS_POINT_SETS: [PointSetKind; 3] = [
+    PointSetKind::Hammersley,
+    PointSetKind::Stratified,
+    PointSetKind::Poisson,
+];
+
 impl Plan {
     /// The thesis's levels from 8 spp and its three point sets, against 2048-spp Sobol.
-    pub fn thesis(time_filter: &str, frames: Vec<u32>) -> Self {
+    pub fn thesis(time_filter: TimeFilter, frames: Vec<u32>) -> Self {
         Self {
             levels: THESIS_LEVELS.to_vec(),
-            point_sets: ["hammersley", "stratified", "poisson"]
-                .map(String::from)
-                .to_vec(),
-            time_filter: time_filter.into(),
-            reference_point_set: "sobol".into(),
+            point_sets: THESIS_POINT_SETS.to_vec(),
+            time_filter,
+            reference_point_set: PointSetKind::Sobol,
             reference_spp: 4 * 512,
             frames,
             seed: 1,
@@ -85,7 +91,7 @@ impl Plan {
 /// One point set at one level, over every frame of the plan.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Row {
-    pub point_set: String,
+    pub point_set: PointSetKind,
     pub spp: u32,
     /// Root mean squared difference of the display frames' channels, in levels of 255
     /// (the mean of the squares over every frame's channels).
@@ -102,7 +108,7 @@ pub struct Row {
 pub struct Rendered<'a> {
     pub frame: u32,
     /// `None` for the reference.
-    pub point_set: Option<&'a str>,
+    pub point_set: Option<PointSetKind>,
     pub spp: u32,
     pub width: u32,
     pub height: u32,
@@ -149,10 +155,10 @@ pub fn measure(
     progress.start(samples(scene, plan));
     plan.check(scene)?;
     let base = &scene.settings.sampling;
-    let config = |point_set: &str, spp: u32| SamplingConfig {
-        point_set: point_set.into(),
+    let config = |point_set: PointSetKind, spp: u32| SamplingConfig {
+        point_set,
         spp,
-        time_filter: plan.time_filter.clone(),
+        time_filter: plan.time_filter,
         ..base.clone()
     };
     let (w, h) = (scene.settings.width, scene.settings.height);
@@ -165,7 +171,7 @@ pub fn measure(
     let mut tallies: Vec<Tally> = (0..plan.point_sets.len() * plan.levels.len())
         .map(|_| Tally::default())
         .collect();
-    let reference_cfg = config(&plan.reference_point_set, plan.reference_spp);
+    let reference_cfg = config(plan.reference_point_set, plan.reference_spp);
     for &frame in &plan.frames {
         let (reference, _) = develop(&reference_cfg, plan.reference_seed(), frame)?;
         keep(&Rendered {
@@ -176,7 +182,7 @@ pub fn measure(
             height: h,
             display: &reference,
         });
-        for (i, ps) in plan.point_sets.iter().enumerate() {
+        for (i, &ps) in plan.point_sets.iter().enumerate() {
             for (j, &spp) in plan.levels.iter().enumerate() {
                 let (display, secs) = develop(&config(ps, spp), plan.seed, frame)?;
                 let t = &mut tallies[i * plan.levels.len() + j];
@@ -194,11 +200,11 @@ pub fn measure(
         }
     }
     let mut rows = Vec::new();
-    for (i, ps) in plan.point_sets.iter().enumerate() {
+    for (i, &ps) in plan.point_sets.iter().enumerate() {
         for (j, &spp) in plan.levels.iter().enumerate() {
             let t = &tallies[i * plan.levels.len() + j];
             rows.push(Row {
-                point_set: ps.clone(),
+                point_set: ps,
                 spp,
                 rmse: (t.squares / t.channels as f64).sqrt(),
                 share_over: t.over as f64 / t.pixels as f64,
@@ -246,7 +252,7 @@ impl Criterion {
         let (first, last) = (rows[0], rows[rows.len() - 1]);
         let drop = first.rmse / last.rmse.max(f64::MIN_POSITIVE);
         Verdict {
-            point_set: first.point_set.clone(),
+            point_set: first.point_set,
             falls_every_step: falls,
             drop,
             share_at_top: last.share_over,
@@ -258,7 +264,7 @@ impl Criterion {
 /// A point set's result against a [`Criterion`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Verdict {
-    pub point_set: String,
+    pub point_set: PointSetKind,
     pub falls_every_step: bool,
     pub drop: f64,
     pub share_at_top: f64,
@@ -267,10 +273,10 @@ pub struct Verdict {
 
 /// Verdicts per point set, in the rows' order.
 pub fn judge(rows: &[Row], criterion: &Criterion) -> Vec<Verdict> {
-    let mut names: Vec<&str> = Vec::new();
+    let mut names: Vec<PointSetKind> = Vec::new();
     for r in rows {
-        if !names.contains(&r.point_set.as_str()) {
-            names.push(&r.point_set);
+        if !names.contains(&r.point_set) {
+            names.push(r.point_set);
         }
     }
     names
@@ -334,7 +340,7 @@ mod tests {
 
     fn row(ps: &str, spp: u32, rmse: f64, share: f64) -> Row {
         Row {
-            point_set: ps.into(),
+            point_set: ps.parse().unwrap(),
             spp,
             rmse,
             share_over: share,
@@ -357,36 +363,36 @@ mod tests {
     fn the_criterion_needs_every_step_the_drop_and_a_clean_top_level() {
         let c = Criterion::thesis();
         let good = [
-            row("a", 8, 8.0, 0.1),
-            row("a", 64, 3.0, 0.0),
-            row("a", 512, 1.9, 5e-5),
+            row("random", 8, 8.0, 0.1),
+            row("random", 64, 3.0, 0.0),
+            row("random", 512, 1.9, 5e-5),
         ];
         let v = judge(&good, &c);
         assert!(v[0].pass && v[0].falls_every_step, "{v:?}");
         assert!((v[0].drop - 8.0 / 1.9).abs() < 1e-12);
         // A rise anywhere fails, however large the overall drop.
         let bumpy = [
-            row("a", 8, 8.0, 0.1),
-            row("a", 64, 8.5, 0.0),
-            row("a", 512, 1.0, 0.0),
+            row("random", 8, 8.0, 0.1),
+            row("random", 64, 8.5, 0.0),
+            row("random", 512, 1.0, 0.0),
         ];
         assert!(!judge(&bumpy, &c)[0].pass);
         // A drop under 4x fails.
-        let slow = [row("a", 8, 8.0, 0.1), row("a", 512, 2.1, 0.0)];
+        let slow = [row("random", 8, 8.0, 0.1), row("random", 512, 2.1, 0.0)];
         assert!(!judge(&slow, &c)[0].pass);
         // Speckles left at the top level fail.
-        let speckled = [row("a", 8, 8.0, 0.1), row("a", 512, 1.0, 1e-4)];
+        let speckled = [row("random", 8, 8.0, 0.1), row("random", 512, 1.0, 1e-4)];
         assert!(!judge(&speckled, &c)[0].pass);
         // Point sets are judged apart, in the order they come.
         let two = [
-            row("b", 8, 8.0, 0.0),
-            row("b", 512, 1.0, 0.0),
-            row("a", 8, 1.0, 0.0),
+            row("sobol", 8, 8.0, 0.0),
+            row("sobol", 512, 1.0, 0.0),
+            row("random", 8, 1.0, 0.0),
         ];
         let v = judge(&two, &c);
         assert_eq!(
-            (v[0].point_set.as_str(), v[1].point_set.as_str()),
-            ("b", "a")
+            (v[0].point_set, v[1].point_set),
+            (PointSetKind::Sobol, PointSetKind::Random)
         );
     }
 }

@@ -3,8 +3,16 @@
 //! them (`plane-hammersley-truncated_box-0064`, `plane-reference`). They live in the light core
 //! so that the experiment and the analysis can build them without the tracer.
 
-/// The id of a test stimulus. Levels are zero-padded to four digits so ids sort by level.
-pub fn stimulus_id(scene: &str, point_set: &str, time_filter: &str, spp: u32) -> String {
+use crate::condition::{PointSetKind, TimeFilter};
+
+/// The id of a test stimulus, from the names of its scene, point set and time filter. Levels
+/// are zero-padded to four digits so ids sort by level.
+pub fn stimulus_id(
+    scene: &str,
+    point_set: PointSetKind,
+    time_filter: TimeFilter,
+    spp: u32,
+) -> String {
     format!("{scene}-{point_set}-{time_filter}-{spp:04}")
 }
 
@@ -20,10 +28,11 @@ mod tests {
     #[test]
     fn ids_sort_by_level_and_name_their_parts() {
         assert_eq!(
-            stimulus_id("plane", "hammersley", "box", 8),
+            stimulus_id("plane", PointSetKind::Hammersley, TimeFilter::Box, 8),
             "plane-hammersley-box-0008"
         );
-        assert!(stimulus_id("s", "p", "t", 64) < stimulus_id("s", "p", "t", 512));
+        let id = |spp| stimulus_id("s", PointSetKind::Sobol, TimeFilter::Triangle, spp);
+        assert!(id(64) < id(512));
         assert_eq!(reference_id("plane"), "plane-reference");
     }
 }

@@ -3,13 +3,14 @@
 //!
 //! Two layers, chosen by cargo features (docs/ARCHITECTURE.md): the light core (stimulus
 //! ids, hashing, atomic writes, the JSON and UTF-8 readers, limits, the stimulus manifest,
-//! the progress trait) is always built, because the experiment and the analysis need it;
+//! the progress trait, the typed conditions) is always built, because the experiment and the analysis need it;
 //! feature `plot` adds the figures' font, feature `terminal` the progress bar the binaries
 //! bind, and feature `tracer` (default) everything that renders. The experiment and the
 //! analysis turn `tracer` off, so they do not compile the ray tracer.
 
 // The light core.
 pub mod atomic;
+pub mod condition;
 pub mod hash;
 pub mod ids;
 pub mod json;

@@ -1,6 +1,7 @@
 //! The stimulus manifest (`stimuli/<job>/manifest.json`): the one file through which the
 //! experiment and the analysis learn what was rendered. Format `blurlab-manifest/1`.
 
+use crate::condition::{Condition, PointSetKind, TimeFilter};
 use anyhow::{Result, bail};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -31,10 +32,10 @@ pub struct Stimulus {
     pub id: String,
     /// Scene name (the scene file's stem).
     pub scene: String,
-    /// Point set name, e.g. `hammersley`.
-    pub point_set: String,
-    /// Time filter name, e.g. `truncated_box`.
-    pub time_filter: String,
+    /// Point set, e.g. `hammersley`.
+    pub point_set: PointSetKind,
+    /// Time filter, e.g. `truncated_box`.
+    pub time_filter: TimeFilter,
     /// Samples per pixel.
     pub spp: u32,
     /// True for an independent high-density reference of its scene.
@@ -69,6 +70,13 @@ pub struct Stimulus {
 }
 
 impl Stimulus {
+    /// The stimulus's condition: its scene, point set and time filter. (The manifest keeps the
+    /// three as fields of the entry: it refuses unknown fields, which serde cannot combine
+    /// with a flattened struct.)
+    pub fn condition(&self) -> Condition {
+        Condition::new(self.scene.clone(), self.point_set, self.time_filter)
+    }
+
     /// Whether the stimulus is its own reference (the highest level under a `highest_level`
     /// job reference): its error is zero by construction and not recorded.
     pub fn own_reference(&self) -> bool {
@@ -190,8 +198,8 @@ mod tests {
         m.stimuli.push(Stimulus {
             id: "plane-hammersley-truncated_box-8".into(),
             scene: "plane".into(),
-            point_set: "hammersley".into(),
-            time_filter: "truncated_box".into(),
+            point_set: PointSetKind::Hammersley,
+            time_filter: TimeFilter::TruncatedBox,
             spp: 8,
             reference: false,
             reference_id: Some("plane-reference".into()),

@@ -88,3 +88,18 @@ fn progress_is_std_only_and_only_the_command_line_draws() {
         drawing.join("\n")
     );
 }
+
+/// The condition types (point set, time filter, spatial filter, `Condition`) import nothing of
+/// the crate: the experiment and the analysis use them without the tracer.
+#[test]
+fn the_condition_types_stand_alone() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/condition.rs");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let imports: Vec<&str> = text
+        .lines()
+        .map(|line| line.split("//").next().unwrap_or(""))
+        .filter(|code| code.contains("crate::") || code.contains("super::"))
+        .filter(|code| !code.contains("use super::*;"))
+        .collect();
+    assert!(imports.is_empty(), "condition.rs imports {imports:?}");
+}

@@ -97,7 +97,7 @@ proptest! {
     #[test]
     fn manifests_never_panic(e in edits(6)) {
         let m = r#"{"format": "blurlab-manifest/1", "job": "j", "stimuli": [{"id": "a-b-c-8",
-            "scene": "a", "point_set": "b", "time_filter": "c", "spp": 8, "reference": false,
+            "scene": "a", "point_set": "sobol", "time_filter": "box", "spp": 8, "reference": false,
             "seed": 1, "width": 4, "height": 4, "frames": 1, "fps": 30.0,
             "frame_paths": ["a/0.png"], "content_hash": "00", "render_seconds": 0.5}]}"#;
         load_file("manifest.json", &apply(m.as_bytes(), &e), Manifest::load);

@@ -95,7 +95,7 @@ fn a_moving_edge_is_blurred_by_the_time_filters_cdf() {
             dir.path(),
         );
         let cfg = SamplingConfig {
-            time_filter: filter.name().into(),
+            time_filter: filter,
             ..sampling(spp)
         };
         let filter = filter.name();

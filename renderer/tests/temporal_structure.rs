@@ -15,6 +15,7 @@
 //! with each pixel's own variance; Fisher's 1/sqrt(n - 3) would assume equal variances).
 //! Frozen noise (the same samples in both frames) gives a correlation of 1.
 
+use renderer::condition::TimeFilter;
 use renderer::job::{JobFile, line_format, stimulus_sampling};
 use renderer::sampling::{FrameSampler, SamplingConfig, SamplingOptions, Scope, pointset};
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -78,7 +79,8 @@ fn measure(options: &SamplingOptions) -> Vec<(&'static str, f64, f64)> {
     pointset::ALL
         .iter()
         .map(|set| {
-            let cfg = stimulus_sampling(set.name(), SPP, "truncated_box", options)
+            let kind = set.name().parse().unwrap();
+            let cfg = stimulus_sampling(kind, SPP, TimeFilter::TruncatedBox, options)
                 .over(&SamplingConfig::default());
             let (r, t) = dependence(&residuals(&cfg, 2013));
             (set.name(), r, t)

@@ -25,8 +25,8 @@ fn check(name: &str, frames: Vec<u32>) {
     scene.settings.height = 32;
     let plan = Plan {
         levels: vec![8, 64, 512],
-        point_sets: vec![scene.settings.sampling.point_set.clone()],
-        ..Plan::thesis("truncated_box", frames)
+        point_sets: vec![scene.settings.sampling.point_set],
+        ..Plan::thesis(renderer::condition::TimeFilter::TruncatedBox, frames)
     };
     assert_eq!(plan.reference_spp, 2048);
     let rows = measure(&scene, &plan, &NoProgress, |_| {}).unwrap();

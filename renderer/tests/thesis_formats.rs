@@ -6,6 +6,7 @@
 mod support;
 
 use proptest::prelude::*;
+use renderer::condition::{PointSetKind, TimeFilter};
 use renderer::convert::{self, Document};
 use renderer::job::line_format;
 use renderer::job::{
@@ -95,9 +96,13 @@ fn figure_12_reads_as_printed() {
             scenes: vec!["figure12.scene".into()],
             levels: vec![1, 8, 27, 64, 125, 216, 343, 512],
             // `stratifiedmc` is the suite's `stratified`.
-            point_sets: vec!["hammersley".into(), "stratified".into(), "poisson".into()],
+            point_sets: vec![
+                PointSetKind::Hammersley,
+                PointSetKind::Stratified,
+                PointSetKind::Poisson,
+            ],
             // `box` is the thesis's truncated box (docs/thesis-formats.md).
-            time_filters: vec!["truncated_box".into(), "triangle".into()],
+            time_filters: vec![TimeFilter::TruncatedBox, TimeFilter::Triangle],
             // The thesis's ground truth: the highest level of the same point set and filter.
             reference: ReferenceSpec::HighestLevel,
             seed: line_format::DEFAULT_SEED,
@@ -179,9 +184,9 @@ fn figure_13_reads_as_printed() {
             }),
             exposure: 1.0,
             sampling: SamplingConfig {
-                point_set: "hammersley".into(),
+                point_set: PointSetKind::Hammersley,
                 spp: 64,
-                time_filter: "triangle".into(),
+                time_filter: TimeFilter::Triangle,
                 ..Default::default()
             },
         },
@@ -575,22 +580,12 @@ fn light() -> impl Strategy<Value = LightDesc> {
         })
 }
 
-fn point_set() -> impl Strategy<Value = String> {
-    prop::sample::select(
-        renderer::sampling::pointset::ALL
-            .iter()
-            .map(|s| s.name().to_string())
-            .collect::<Vec<_>>(),
-    )
+fn point_set() -> impl Strategy<Value = PointSetKind> {
+    prop::sample::select(PointSetKind::ALL.to_vec())
 }
 
-fn time_filter() -> impl Strategy<Value = String> {
-    prop::sample::select(
-        renderer::sampling::TimeFilter::ALL
-            .iter()
-            .map(|f| f.name().to_string())
-            .collect::<Vec<_>>(),
-    )
+fn time_filter() -> impl Strategy<Value = TimeFilter> {
+    prop::sample::select(TimeFilter::ALL.to_vec())
 }
 
 fn scope() -> impl Strategy<Value = Option<Scope>> {

@@ -144,9 +144,9 @@ fn rendered_extent(scene: &Scene, frame: u32, size: u32) -> Option<[u32; 4]> {
     let (t0, t1) = scene.settings.shutter(frame);
     let still = scene.frozen_at(0.5 * (t0 + t1));
     let cfg = SamplingConfig {
-        point_set: "stratified".into(),
+        point_set: renderer::condition::PointSetKind::Stratified,
         spp: 8,
-        time_filter: "box".into(),
+        time_filter: renderer::condition::TimeFilter::Box,
         // Samples stay inside their pixel: a pixel shows the airliner only if it covers it.
         spatial_filter: Some(SpatialFilter::Box),
         ..SamplingConfig::default()

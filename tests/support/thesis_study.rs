@@ -57,11 +57,11 @@ pub fn write_design(dir: &Path, seed: u64) -> Design {
 }
 
 pub fn condition(scene: &str, point_set: &str) -> Condition {
-    Condition {
-        scene: scene.into(),
-        point_set: point_set.into(),
-        time_filter: TIME_FILTER.into(),
-    }
+    Condition::new(
+        scene,
+        point_set.parse().unwrap(),
+        TIME_FILTER.parse().unwrap(),
+    )
 }
 
 /// The design cells an analysis group pools (`scene/point_set/time_filter` for conditions).

@@ -170,8 +170,8 @@ pub fn cells_of(design: &Design, family: Grouping, label: &str) -> Vec<Condition
         .into_iter()
         .filter(|c| match family {
             Grouping::Scene => c.scene == label,
-            Grouping::PointSet => c.point_set == label,
-            Grouping::TimeFilter => c.time_filter == label,
+            Grouping::PointSet => c.point_set.name() == label,
+            Grouping::TimeFilter => c.time_filter.name() == label,
             Grouping::Condition => {
                 format!("{}/{}/{}", c.scene, c.point_set, c.time_filter) == label
             }

@@ -87,8 +87,8 @@ fn jnd_csv_text(p: &Prediction) -> Result<String> {
         };
         w.write_record([
             c.condition.scene.clone(),
-            c.condition.point_set.clone(),
-            c.condition.time_filter.clone(),
+            c.condition.point_set.to_string(),
+            c.condition.time_filter.to_string(),
             c.jnd.kind().into(),
             num(jnd_spp),
             c.jnd.display(),

@@ -113,11 +113,7 @@ fn pairs(manifest: &Manifest, manifest_path: &Path, design: Option<&Design>) -> 
                 out.insert(
                     s.id.clone(),
                     Pair {
-                        condition: Condition {
-                            scene: s.scene.clone(),
-                            point_set: s.point_set.clone(),
-                            time_filter: s.time_filter.clone(),
-                        },
+                        condition: s.condition(),
                         spp: s.spp,
                         test: s.id.clone(),
                         reference: r.id.clone(),
@@ -252,8 +248,8 @@ fn row(p: &Pair, q_frames: &[f64], k: f64) -> PredictedRow {
     pf.sort_by(f64::total_cmp);
     PredictedRow {
         scene: p.condition.scene.clone(),
-        point_set: p.condition.point_set.clone(),
-        time_filter: p.condition.time_filter.clone(),
+        point_set: p.condition.point_set,
+        time_filter: p.condition.time_filter,
         spp: p.spp,
         test_stimulus: p.test.clone(),
         reference_stimulus: p.reference.clone(),
@@ -275,11 +271,7 @@ pub fn with_k(p: &Prediction, k: f64) -> Prediction {
         .iter()
         .map(|s| {
             let pair = Pair {
-                condition: Condition {
-                    scene: s.row.scene.clone(),
-                    point_set: s.row.point_set.clone(),
-                    time_filter: s.row.time_filter.clone(),
-                },
+                condition: s.row.condition(),
                 spp: s.row.spp,
                 test: s.row.test_stimulus.clone(),
                 reference: s.row.reference_stimulus.clone(),
@@ -338,12 +330,7 @@ pub fn threshold(points: &[(u32, f64)]) -> Threshold {
 fn conditions(stimuli: &[StimulusPrediction], k: f64) -> Vec<ConditionPrediction> {
     let mut by: BTreeMap<Condition, Vec<&StimulusPrediction>> = BTreeMap::new();
     for s in stimuli {
-        let c = Condition {
-            scene: s.row.scene.clone(),
-            point_set: s.row.point_set.clone(),
-            time_filter: s.row.time_filter.clone(),
-        };
-        by.entry(c).or_default().push(s);
+        by.entry(s.row.condition()).or_default().push(s);
     }
     by.into_iter()
         .map(|(condition, mut list)| {
@@ -409,11 +396,11 @@ mod tests {
     #[test]
     fn no_visible_difference_is_exactly_chance() {
         let pair = Pair {
-            condition: Condition {
-                scene: "s".into(),
-                point_set: "p".into(),
-                time_filter: "t".into(),
-            },
+            condition: Condition::new(
+                "s",
+                renderer::condition::PointSetKind::Random,
+                renderer::condition::TimeFilter::Box,
+            ),
             spp: 8,
             test: "s-reference".into(),
             reference: "s-reference".into(),

@@ -2,6 +2,7 @@
 //! in display space (`crate::display_convergence`): the table, a verdict per point set, and
 //! optionally a contact sheet and CSV.
 
+use crate::condition::{PointSetKind, TimeFilter};
 use crate::contact_sheet::{self, Rect, Tile};
 use crate::display_convergence::{self as dc, Criterion, Plan};
 use crate::progress::terminal::{Look, Terminal};
@@ -20,17 +21,17 @@ pub struct ConvergeArgs {
     #[arg(long, value_delimiter = ',', default_values_t = dc::THESIS_LEVELS)]
     pub levels: Vec<u32>,
     /// Point sets to measure.
-    #[arg(long, value_delimiter = ',', default_values_t = ["hammersley".to_string(), "stratified".into(), "poisson".into()])]
-    pub point_sets: Vec<String>,
+    #[arg(long, value_delimiter = ',', default_values_t = dc::THESIS_POINT_SETS)]
+    pub point_sets: Vec<PointSetKind>,
     /// Time filter of every render (the thesis's study used the truncated box).
     #[arg(long, default_value = "truncated_box")]
-    pub time_filter: String,
+    pub time_filter: TimeFilter,
     /// Samples per pixel of the reference [default: 4 x the highest level].
     #[arg(long, value_parser = crate::limits::parse_spp, allow_hyphen_values = true)]
     pub reference_spp: Option<u32>,
     /// Point set of the reference.
     #[arg(long, default_value = "sobol")]
-    pub reference_point_set: String,
+    pub reference_point_set: PointSetKind,
     /// Scene frames to compare [default: four spread over the animation].
     #[arg(long, value_delimiter = ',')]
     pub frames: Vec<u32>,
@@ -54,7 +55,7 @@ pub struct ConvergeArgs {
     pub sheet_frame: Option<u32>,
     /// The sheet's point set [default: the first measured].
     #[arg(long)]
-    pub sheet_point_set: Option<String>,
+    pub sheet_point_set: Option<PointSetKind>,
     /// Show only this part of the frame on the sheet: x,y,width,height in pixels.
     #[arg(long)]
     pub sheet_crop: Option<Rect>,
@@ -95,8 +96,8 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     let plan = Plan {
         levels: args.levels.clone(),
         point_sets: args.point_sets.clone(),
-        time_filter: args.time_filter.clone(),
-        reference_point_set: args.reference_point_set.clone(),
+        time_filter: args.time_filter,
+        reference_point_set: args.reference_point_set,
         reference_spp: args.reference_spp.unwrap_or(4 * top),
         frames,
         seed: args.seed,
@@ -109,10 +110,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
             plan.frames
         );
     }
-    let sheet_set = args
-        .sheet_point_set
-        .clone()
-        .unwrap_or_else(|| plan.point_sets[0].clone());
+    let sheet_set = args.sheet_point_set.unwrap_or(plan.point_sets[0]);
     let bar = Terminal::new(Look::Converge, !args.no_progress);
     let mut tiles: Vec<Result<Tile>> = Vec::new();
     let mut reference_tile = None;

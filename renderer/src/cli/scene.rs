@@ -1,6 +1,7 @@
 //! `render scene <scene.json | scene.scene> --spp N --out DIR [--frames a..b] [--exr]`: render a scene's
 //! frames with its own settings (or the sampling given here) into a folder.
 
+use crate::condition::{PointSetKind, TimeFilter};
 use crate::progress::terminal::{Look, Terminal};
 use crate::render::sequence::{SequenceOptions, render_sequence};
 use crate::scene::Scene;
@@ -23,10 +24,10 @@ pub struct SceneArgs {
     pub spp: Option<u32>,
     /// Point set (default: the scene's).
     #[arg(long)]
-    pub point_set: Option<String>,
+    pub point_set: Option<PointSetKind>,
     /// Time filter (default: the scene's).
     #[arg(long)]
-    pub time_filter: Option<String>,
+    pub time_filter: Option<TimeFilter>,
     /// Scene frames to render: `a..b` (b excluded), `a..=b`, or one frame `n`
     /// (default: all of the scene's frames).
     #[arg(long, value_parser = parse_frames, allow_hyphen_values = true)]
@@ -86,11 +87,11 @@ pub fn run(args: SceneArgs) -> Result<()> {
     if let Some(spp) = args.spp {
         sampling.spp = spp;
     }
-    if let Some(p) = &args.point_set {
-        sampling.point_set = p.clone();
+    if let Some(p) = args.point_set {
+        sampling.point_set = p;
     }
-    if let Some(f) = &args.time_filter {
-        sampling.time_filter = f.clone();
+    if let Some(f) = args.time_filter {
+        sampling.time_filter = f;
     }
     let frames = args.frames.clone().unwrap_or(0..s.frames);
     if frames.end > s.frames {

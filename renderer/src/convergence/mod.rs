@@ -11,6 +11,7 @@
 
 mod plot;
 
+use crate::condition::{PointSetKind, TimeFilter};
 use crate::manifest::{Manifest, Stimulus};
 use anyhow::{Context, Result, anyhow};
 use plot::{Axis, plot};
@@ -24,8 +25,8 @@ pub(crate) const FONT: &str = "blurlab-sans";
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Row {
     pub scene: String,
-    pub point_set: String,
-    pub time_filter: String,
+    pub point_set: PointSetKind,
+    pub time_filter: TimeFilter,
     pub spp: u32,
     pub id: String,
     pub render_seconds: f64,
@@ -43,8 +44,8 @@ pub struct Row {
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Slope {
     pub scene: String,
-    pub point_set: String,
-    pub time_filter: String,
+    pub point_set: PointSetKind,
+    pub time_filter: TimeFilter,
     /// Number of levels in the fit.
     pub levels: usize,
     /// d log(RMSE) / d log(spp); -0.5 is plain Monte Carlo.
@@ -113,8 +114,8 @@ pub fn own_reference_rows(m: &Manifest) -> Vec<Row> {
 fn row(m: &Manifest, s: &Stimulus, rmse: f64, rel_mse: f64, psnr: f64, flip: f64) -> Row {
     Row {
         scene: s.scene.clone(),
-        point_set: s.point_set.clone(),
-        time_filter: s.time_filter.clone(),
+        point_set: s.point_set,
+        time_filter: s.time_filter,
         spp: s.spp,
         id: s.id.clone(),
         render_seconds: s.render_seconds,
@@ -139,12 +140,12 @@ fn sorted(mut rows: Vec<Row>) -> Vec<Row> {
     rows
 }
 
-type GroupKey = (String, String, String);
+type GroupKey = (String, PointSetKind, TimeFilter);
 
 fn groups(rows: &[Row]) -> BTreeMap<GroupKey, Vec<&Row>> {
     let mut g: BTreeMap<GroupKey, Vec<&Row>> = BTreeMap::new();
     for r in rows {
-        g.entry((r.scene.clone(), r.point_set.clone(), r.time_filter.clone()))
+        g.entry((r.scene.clone(), r.point_set, r.time_filter))
             .or_default()
             .push(r);
     }
@@ -250,8 +251,8 @@ fn write_slopes_csv(path: &Path, slopes: &[Slope]) -> Result<()> {
         for s in slopes {
             c.write_record([
                 s.scene.clone(),
-                s.point_set.clone(),
-                s.time_filter.clone(),
+                s.point_set.to_string(),
+                s.time_filter.to_string(),
                 s.levels.to_string(),
                 cell(s.rmse_vs_spp),
                 cell(s.rmse_vs_seconds),
@@ -293,8 +294,8 @@ mod tests {
                 m.stimuli.push(Stimulus {
                     id: format!("plane-{ps}-box-{spp:04}"),
                     scene: "plane".into(),
-                    point_set: ps.into(),
-                    time_filter: "box".into(),
+                    point_set: ps.parse().unwrap(),
+                    time_filter: TimeFilter::Box,
                     spp,
                     reference: false,
                     reference_id: Some(format!("plane-{ps}-box-0125")),

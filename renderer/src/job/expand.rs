@@ -54,8 +54,8 @@ pub fn expand(job: &Job) -> Vec<StimulusSpec> {
         if let Reference::Independent(r) = &job.reference {
             push(reference_id(&scene.name), r.clone(), None);
         }
-        for ps in &job.point_sets {
-            for tf in &job.time_filters {
+        for &ps in &job.point_sets {
+            for &tf in &job.time_filters {
                 let against = match job.reference {
                     Reference::Independent(_) => reference_id(&scene.name),
                     Reference::HighestLevel => {
@@ -79,6 +79,7 @@ pub fn expand(job: &Job) -> Vec<StimulusSpec> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::condition::{PointSetKind, TimeFilter};
     use crate::job::{JobScene, Overrides};
 
     fn job(levels: Vec<u32>, point_sets: &[&str]) -> Job {
@@ -93,12 +94,12 @@ mod tests {
                 })
                 .collect(),
             levels,
-            point_sets: point_sets.iter().map(|s| s.to_string()).collect(),
-            time_filters: vec!["truncated_box".into(), "box".into()],
+            point_sets: point_sets.iter().map(|s| s.parse().unwrap()).collect(),
+            time_filters: vec![TimeFilter::TruncatedBox, TimeFilter::Box],
             reference: Reference::Independent(SamplingConfig {
-                point_set: "hammersley".into(),
+                point_set: PointSetKind::Hammersley,
                 spp: 1000,
-                time_filter: "truncated_box".into(),
+                time_filter: TimeFilter::TruncatedBox,
                 ..Default::default()
             }),
             seed: 42,
@@ -159,7 +160,7 @@ mod tests {
                 &spec.sampling.point_set,
                 &spec.sampling.time_filter,
             );
-            let want = stimulus_id(scene, ps, tf, 64);
+            let want = stimulus_id(scene, *ps, *tf, 64);
             assert_eq!(
                 spec.reference_id.as_deref(),
                 Some(want.as_str()),

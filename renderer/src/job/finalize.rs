@@ -82,8 +82,8 @@ pub(super) fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Man
         m.stimuli.push(manifest::Stimulus {
             id: spec.id.clone(),
             scene: spec.scene.clone(),
-            point_set: spec.sampling.point_set.clone(),
-            time_filter: spec.sampling.time_filter.clone(),
+            point_set: spec.sampling.point_set,
+            time_filter: spec.sampling.time_filter,
             spp: spec.sampling.spp,
             reference: spec.reference,
             reference_id: spec.reference_id.clone(),

@@ -24,7 +24,8 @@ pub use runner::{Finalize, RunOptions, RunReport, run_with_sources};
 pub use scene_source::{dry_run, run};
 pub use shard::Shard;
 
-use crate::sampling::{FrameSampler, SamplingConfig, SamplingOptions, TimeFilter, pointset};
+use crate::condition::{PointSetKind, TimeFilter};
+use crate::sampling::{FrameSampler, SamplingConfig, SamplingOptions};
 use crate::text::SourceMap;
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
@@ -48,9 +49,9 @@ pub struct JobFile {
     /// Sampling levels (samples per pixel) of the test stimuli.
     pub levels: Vec<u32>,
     /// Point sets to compare, e.g. `hammersley`, `stratified`, `poisson`.
-    pub point_sets: Vec<String>,
+    pub point_sets: Vec<PointSetKind>,
     /// Time filters, e.g. `truncated_box`.
-    pub time_filters: Vec<String>,
+    pub time_filters: Vec<TimeFilter>,
     /// What each stimulus is measured against: the highest level of its own point set and time
     /// filter (`"highest_level"`, the thesis's ground truth), or an independent high-density
     /// render per scene (`{"spp": N, ...}`).
@@ -93,9 +94,14 @@ impl<'de> Deserialize<'de> for ReferenceSpec {
         use serde::de::Error;
         match serde_json::Value::deserialize(d)? {
             serde_json::Value::String(s) if s == HIGHEST_LEVEL => Ok(ReferenceSpec::HighestLevel),
-            v @ serde_json::Value::Object(_) => serde_json::from_value(v)
+            // Through the path tracker, so that a bad name inside says where (the outer
+            // reader's path stops at `reference`).
+            v @ serde_json::Value::Object(_) => serde_path_to_error::deserialize(v)
                 .map(ReferenceSpec::Independent)
-                .map_err(D::Error::custom),
+                .map_err(|e| match e.path().to_string().as_str() {
+                    "." | "" => D::Error::custom(e.into_inner()),
+                    at => D::Error::custom(format!("in `{at}`: {}", e.into_inner())),
+                }),
             other => Err(D::Error::custom(format!(
                 "found {other}; expected \"{HIGHEST_LEVEL}\" or an independent reference \
                  {{\"spp\": N, \"point_set\": ..., \"time_filter\": ...}}"
@@ -112,11 +118,11 @@ pub struct IndependentReference {
     pub spp: u32,
     /// Point set of the reference (default: the job's first).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub point_set: Option<String>,
+    pub point_set: Option<PointSetKind>,
     /// Time filter of the reference (default: the job's first). Stimuli with another filter are
     /// measured against it too, so their error then includes the filters' difference.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub time_filter: Option<String>,
+    pub time_filter: Option<TimeFilter>,
 }
 
 /// Scene settings a job may replace.
@@ -175,8 +181,8 @@ pub struct Job {
     pub name: String,
     pub scenes: Vec<JobScene>,
     pub levels: Vec<u32>,
-    pub point_sets: Vec<String>,
-    pub time_filters: Vec<String>,
+    pub point_sets: Vec<PointSetKind>,
+    pub time_filters: Vec<TimeFilter>,
     pub reference: Reference,
     pub seed: u64,
     pub overrides: Overrides,
@@ -274,23 +280,18 @@ impl Job {
                 .then(|| format!("is {l}; expected samples per pixel from 1 to {most}"))
         })
         .map_err(|(field, e)| at(&field, e))?;
-        // Names first, each against its own list, so that a misspelt time filter is reported
-        // as such (and not as a failure of the first point set's stimuli).
-        check_list("point_sets", &f.point_sets, |n| {
-            (check_name(n).err()).or_else(|| pointset::by_name(n).err().map(|e| e.to_string()))
-        })
-        .map_err(|(fl, e)| at(&fl, e))?;
-        check_list("time_filters", &f.time_filters, |n| {
-            (check_name(n).err()).or_else(|| TimeFilter::by_name(n).err().map(|e| e.to_string()))
-        })
-        .map_err(|(fl, e)| at(&fl, e))?;
+        // The names were checked when the file was read; here each list is checked on its
+        // own, so that a repeated time filter is reported as such (and not as a failure of the
+        // first point set's stimuli).
+        check_list("point_sets", &f.point_sets, |_| None).map_err(|(fl, e)| at(&fl, e))?;
+        check_list("time_filters", &f.time_filters, |_| None).map_err(|(fl, e)| at(&fl, e))?;
         let reference = match &f.reference {
             ReferenceSpec::HighestLevel => Reference::HighestLevel,
             ReferenceSpec::Independent(r) => {
                 let reference = stimulus_sampling(
-                    r.point_set.as_ref().unwrap_or(&f.point_sets[0]),
+                    r.point_set.unwrap_or(f.point_sets[0]),
                     r.spp,
-                    r.time_filter.as_ref().unwrap_or(&f.time_filters[0]),
+                    r.time_filter.unwrap_or(f.time_filters[0]),
                     &f.overrides.sampling,
                 );
                 if let Some(max) = f.levels.iter().max().filter(|&&m| reference.spp <= m) {
@@ -302,20 +303,20 @@ impl Job {
                         ),
                     ));
                 }
-                // The sampler is the authority on point set and filter names and on
-                // constraints such as cube counts for stratified sampling.
+                // The sampler is the authority on constraints such as cube counts for
+                // stratified sampling.
                 check_sampling(&reference).map_err(|e| at("reference", e))?;
                 Reference::Independent(reference)
             }
         };
-        for (i, ps) in f.point_sets.iter().enumerate() {
-            for tf in &f.time_filters {
+        for (i, &ps) in f.point_sets.iter().enumerate() {
+            for &tf in &f.time_filters {
                 for &spp in &f.levels {
                     let cfg = stimulus_sampling(ps, spp, tf, &f.overrides.sampling);
                     check_sampling(&cfg).map_err(|e| {
                         at(
                             &format!("point_sets[{i}]"),
-                            format!("with time filter {tf:?} at {spp} spp: {e}"),
+                            format!("with time filter \"{tf}\" at {spp} spp: {e}"),
                         )
                     })?;
                 }
@@ -365,9 +366,9 @@ impl Job {
         match &self.reference {
             Reference::Independent(r) => r.clone(),
             Reference::HighestLevel => stimulus_sampling(
-                &self.point_sets[0],
+                self.point_sets[0],
                 self.highest_level(),
-                &self.time_filters[0],
+                self.time_filters[0],
                 &self.overrides.sampling,
             ),
         }
@@ -408,15 +409,15 @@ fn check_list<T: PartialEq + std::fmt::Debug>(
 /// job's `overrides.sampling`; the scene's own settings fill in the rest when it is rendered
 /// ([`SamplingConfig::over`]).
 pub fn stimulus_sampling(
-    point_set: &str,
+    point_set: PointSetKind,
     spp: u32,
-    time_filter: &str,
+    time_filter: TimeFilter,
     options: &SamplingOptions,
 ) -> SamplingConfig {
     SamplingConfig {
-        point_set: point_set.to_string(),
+        point_set,
         spp,
-        time_filter: time_filter.to_string(),
+        time_filter,
         ..Default::default()
     }
     .with_options(options)
@@ -463,8 +464,8 @@ mod tests {
         let Reference::Independent(r) = &job.reference else {
             panic!("an independent reference")
         };
-        assert_eq!(r.point_set, "random");
-        assert_eq!(r.time_filter, "box");
+        assert_eq!(r.point_set, PointSetKind::Random);
+        assert_eq!(r.time_filter, TimeFilter::Box);
         assert_eq!(job.frames_per_unit, DEFAULT_FRAMES_PER_UNIT);
     }
 
@@ -584,22 +585,32 @@ mod tests {
     }
 
     #[test]
-    fn point_set_names_follow_the_sampler() {
-        // The job accepts exactly what the sampler accepts, and names the field when not.
-        let cfg = SamplingConfig {
-            point_set: "no_such_set".into(),
-            spp: 8,
-            ..Default::default()
-        };
-        let sampler_ok = FrameSampler::new(&cfg, 0, 0).is_ok();
-        let text = job_text().replace("\"hammersley\"", "\"no_such_set\"");
-        let (_d, p) = setup(&text);
-        match Job::load(&p) {
-            Ok(_) => assert!(sampler_ok),
-            Err(e) => {
-                assert!(!sampler_ok);
-                assert!(format!("{e:#}").contains("`point_sets[1]`"), "{e:#}");
-            }
+    fn unknown_names_are_refused_at_load_with_the_field_and_the_known_names() {
+        for (from, to, field, names) in [
+            (
+                "\"hammersley\"",
+                "\"no_such_set\"",
+                "`point_sets[1]`",
+                "random, stratified",
+            ),
+            (
+                "[\"box\"]",
+                "[\"tent\"]",
+                "`time_filters[0]`",
+                "box, truncated_box",
+            ),
+            (
+                "{\"spp\": 64}",
+                "{\"spp\": 64, \"point_set\": \"jittered\"}",
+                "`reference`: in `point_set`",
+                "sobol, halton",
+            ),
+        ] {
+            let e = error_of(&job_text().replace(from, to));
+            assert!(
+                e.contains("job.json") && e.contains(field) && e.contains(names),
+                "{field}: {e}"
+            );
         }
     }
 }

@@ -219,7 +219,7 @@ mod tests {
         .unwrap();
         let src = load_source(&path, &Overrides::default()).unwrap();
         let job = |spp| SamplingConfig {
-            point_set: "hammersley".into(),
+            point_set: crate::condition::PointSetKind::Hammersley,
             spp,
             ..Default::default()
         };

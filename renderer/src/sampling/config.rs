@@ -5,6 +5,8 @@
 //! value, else the thesis default" (see [`SamplingConfig::over`]), so a job can change one of
 //! them for every stimulus without knowing the others, and older files keep their meaning.
 
+pub use crate::condition::SpatialFilter;
+use crate::condition::{PointSetKind, TimeFilter};
 use serde::{Deserialize, Serialize};
 
 /// Thesis default: Gaussian spatial warp with a standard deviation of half a pixel (Figure 16
@@ -18,13 +20,13 @@ pub const DEFAULT_SPATIAL_SIGMA: f64 = 0.5;
 pub struct SamplingConfig {
     /// Point set name: `random`, `stratified`, `hammersley`, `poisson`, `sobol`, `halton`.
     #[serde(default = "default_point_set")]
-    pub point_set: String,
+    pub point_set: PointSetKind,
     /// Samples per pixel.
     #[serde(default = "default_spp")]
     pub spp: u32,
     /// Time filter name: `box`, `truncated_box`, `triangle`.
     #[serde(default = "default_time_filter")]
-    pub time_filter: String,
+    pub time_filter: TimeFilter,
     /// Spatial filter (importance-sampled by warping): `gaussian` (default) or `box`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spatial_filter: Option<SpatialFilter>,
@@ -90,17 +92,6 @@ impl Randomization {
     }
 }
 
-/// The reconstruction filter over the pixel, realised by warping (filter importance sampling,
-/// Ernst 2006): every sample then has the same weight.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum SpatialFilter {
-    /// 2D Gaussian by Box-Muller (thesis Figure 16); may reach beyond the pixel.
-    Gaussian,
-    /// Uniform over the pixel (no warp): what analytic tests need.
-    Box,
-}
-
 /// How many distinct positions each axis gets.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
@@ -123,14 +114,14 @@ pub enum Scope {
     Sequence,
 }
 
-fn default_point_set() -> String {
-    "random".into()
+fn default_point_set() -> PointSetKind {
+    PointSetKind::Random
 }
 fn default_spp() -> u32 {
     16
 }
-fn default_time_filter() -> String {
-    "box".into()
+fn default_time_filter() -> TimeFilter {
+    TimeFilter::Box
 }
 
 impl Default for SamplingConfig {
@@ -155,9 +146,9 @@ impl SamplingConfig {
     /// `scene` (else the default).
     pub fn over(&self, scene: &SamplingConfig) -> SamplingConfig {
         SamplingConfig {
-            point_set: self.point_set.clone(),
+            point_set: self.point_set,
             spp: self.spp,
-            time_filter: self.time_filter.clone(),
+            time_filter: self.time_filter,
             ..scene.clone()
         }
         .with_options(&self.options())
@@ -232,7 +223,7 @@ mod tests {
     fn old_files_parse_and_get_the_thesis_defaults() {
         let c: SamplingConfig =
             serde_json::from_str(r#"{"point_set": "hammersley", "spp": 64}"#).unwrap();
-        assert_eq!(c.time_filter, "box");
+        assert_eq!(c.time_filter, TimeFilter::Box);
         assert_eq!(c.spatial_filter(), SpatialFilter::Gaussian);
         assert_eq!(c.spatial_sigma(), 0.5);
         assert_eq!(c.density(), Density::Joint);
@@ -276,25 +267,25 @@ mod tests {
     #[test]
     fn a_stimulus_lays_its_choices_over_the_scene_block() {
         let scene = SamplingConfig {
-            point_set: "sobol".into(),
+            point_set: PointSetKind::Sobol,
             spp: 4,
-            time_filter: "triangle".into(),
+            time_filter: TimeFilter::Triangle,
             spatial_sigma: Some(0.8),
             shift_scope: Some(Scope::Frame),
             randomization: Some(Randomization::Scramble),
             ..Default::default()
         };
         let job = SamplingConfig {
-            point_set: "hammersley".into(),
+            point_set: PointSetKind::Hammersley,
             spp: 27,
-            time_filter: "truncated_box".into(),
+            time_filter: TimeFilter::TruncatedBox,
             spatial_filter: Some(SpatialFilter::Box),
             shift_scope: Some(Scope::Sequence),
             ..Default::default()
         };
         let c = job.over(&scene);
-        assert_eq!((c.point_set.as_str(), c.spp), ("hammersley", 27));
-        assert_eq!(c.time_filter, "truncated_box");
+        assert_eq!((c.point_set, c.spp), (PointSetKind::Hammersley, 27));
+        assert_eq!(c.time_filter, TimeFilter::TruncatedBox);
         assert_eq!(c.spatial_filter(), SpatialFilter::Box, "job wins where set");
         assert_eq!(c.shift_scope(), Scope::Sequence, "job wins where set");
         assert_eq!(c.spatial_sigma(), 0.8, "scene where the job is silent");

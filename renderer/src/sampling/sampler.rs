@@ -83,7 +83,8 @@ fn scoped(seed: u64, tag: u64, scope: Scope, frame: u32) -> u64 {
 
 impl FrameSampler {
     /// The sampler for `frame` of a stimulus with master `seed`. Errors name the setting and
-    /// what it must be (unknown names, stratified counts that are not cubes, ...).
+    /// what it must be (stratified counts that are not cubes, ...); point set and time filter
+    /// are typed, checked when the scene or job was read.
     pub fn new(config: &SamplingConfig, seed: u64, frame: u32) -> Result<Self> {
         if config.spp == 0 {
             bail!("field `spp` must be at least 1");
@@ -92,8 +93,8 @@ impl FrameSampler {
         if !(sigma.is_finite() && sigma > 0.0) {
             bail!("field `spatial_sigma` is {sigma}; expected a positive number of pixels");
         }
-        let time = TimeFilter::by_name(&config.time_filter)?;
-        let set = pointset::by_name(&config.point_set)?;
+        let time = config.time_filter;
+        let set = pointset::of(config.point_set);
         let key = scoped(seed, POINTS_TAG, config.point_set_scope(), frame);
         let spp = config.spp as usize;
         let points = density::points(set, spp, config.density(), key)?
@@ -221,9 +222,9 @@ mod tests {
 
     fn config(point_set: &str, spp: u32, time_filter: &str) -> SamplingConfig {
         SamplingConfig {
-            point_set: point_set.into(),
+            point_set: point_set.parse().unwrap(),
             spp,
-            time_filter: time_filter.into(),
+            time_filter: time_filter.parse().unwrap(),
             ..Default::default()
         }
     }
@@ -581,8 +582,6 @@ mod tests {
         let err = |cfg: SamplingConfig| format!("{:#}", FrameSampler::new(&cfg, 0, 0).unwrap_err());
         let e = err(config("stratified", 100, "box"));
         assert!(e.contains("64 and 125"), "{e}");
-        assert!(err(config("nope", 8, "box")).contains("unknown point set"));
-        assert!(err(config("random", 8, "nope")).contains("unknown time filter"));
         assert!(err(config("random", 0, "box")).contains("`spp`"));
         let e = err(SamplingConfig {
             spatial_sigma: Some(-1.0),

@@ -3,47 +3,10 @@
 //! filter's inverse CDF, so t stays within the frame's shutter interval and samples count
 //! equally.
 
-use anyhow::{Result, bail};
+pub use crate::condition::TimeFilter;
 
-/// A time filter over the shutter interval [0, 1].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TimeFilter {
-    /// Uniform over the whole interval (no warp).
-    Box,
-    /// Uniform over the middle 50%: zero for the first and last quarter.
-    TruncatedBox,
-    /// Tent peaking at the middle, zero at both ends.
-    Triangle,
-}
-
+/// The density and warp of each filter (its names are in [`crate::condition`]).
 impl TimeFilter {
-    /// Every filter, in the order help texts list them.
-    pub const ALL: [TimeFilter; 3] = [
-        TimeFilter::Box,
-        TimeFilter::TruncatedBox,
-        TimeFilter::Triangle,
-    ];
-
-    /// The name used in scene and job files.
-    pub fn name(self) -> &'static str {
-        match self {
-            TimeFilter::Box => "box",
-            TimeFilter::TruncatedBox => "truncated_box",
-            TimeFilter::Triangle => "triangle",
-        }
-    }
-
-    /// The filter called `name`; the error lists the known names.
-    pub fn by_name(name: &str) -> Result<Self> {
-        match Self::ALL.into_iter().find(|f| f.name() == name) {
-            Some(f) => Ok(f),
-            None => bail!(
-                "unknown time filter {name:?}; expected one of {}",
-                Self::ALL.map(|f| f.name()).join(", ")
-            ),
-        }
-    }
-
     /// The filter's probability density at t in [0, 1] (0 outside).
     pub fn pdf(self, t: f64) -> f64 {
         if !(0.0..=1.0).contains(&t) {
@@ -159,14 +122,5 @@ mod tests {
                 f.name()
             );
         }
-    }
-
-    #[test]
-    fn names_round_trip_and_unknown_names_are_explained() {
-        for f in TimeFilter::ALL {
-            assert_eq!(TimeFilter::by_name(f.name()).unwrap(), f);
-        }
-        let e = TimeFilter::by_name("tent").unwrap_err().to_string();
-        assert!(e.contains("truncated_box, triangle"), "{e}");
     }
 }

@@ -10,73 +10,120 @@
 //!   same. The full-shutter box, which the thesis never used, is `fullbox` (the suite's `box`).
 //!   The writers write `box`, `fullbox` and `triangle`.
 //!
-//! Other names pass through unchanged, so a point set or filter added to the sampler needs no
-//! change here; the sampler decides whether a name exists.
+//! Every suite name is read as itself too (`stratified`, `truncated_box`), except `box`.
 
-/// The suite's point set name for a name in a text file.
-pub fn point_set_from_text(word: &str) -> String {
+use crate::condition::{PointSetKind, TimeFilter};
+
+/// The words a text file may use for a point set.
+pub const POINT_SET_WORDS: [&str; 7] = [
+    "random",
+    "stratifiedmc",
+    "stratified",
+    "hammersley",
+    "poisson",
+    "sobol",
+    "halton",
+];
+
+/// The words a text file may use for a time filter.
+pub const TIME_FILTER_WORDS: [&str; 5] = [
+    "fullbox",
+    "box",
+    "truncatedbox",
+    "truncated_box",
+    "triangle",
+];
+
+/// The point set a word of a text file names; the error lists [`POINT_SET_WORDS`].
+pub fn point_set_from_text(word: &str) -> Result<PointSetKind, String> {
     match word {
-        "stratifiedmc" => "stratified",
-        w => w,
-    }
-    .to_string()
-}
-
-/// The text files' point set name for a suite name, or `None` if a text file could not say it
-/// (a name the reader would turn into another).
-pub fn point_set_to_text(name: &str) -> Option<&str> {
-    match name {
-        "stratified" => Some("stratifiedmc"),
-        "stratifiedmc" => None,
-        n => Some(n),
+        "stratifiedmc" => Ok(PointSetKind::Stratified),
+        w => w.parse().map_err(|_| {
+            format!(
+                "unknown point set {w:?}; expected one of {}",
+                POINT_SET_WORDS.join(", ")
+            )
+        }),
     }
 }
 
-/// The suite's time filter name for a name in a text file.
-pub fn time_filter_from_text(word: &str) -> String {
+/// The text files' word for a point set.
+pub fn point_set_to_text(set: PointSetKind) -> &'static str {
+    match set {
+        PointSetKind::Stratified => "stratifiedmc",
+        s => s.name(),
+    }
+}
+
+/// The time filter a word of a text file names; the error lists [`TIME_FILTER_WORDS`].
+pub fn time_filter_from_text(word: &str) -> Result<TimeFilter, String> {
     match word {
-        "box" | "truncatedbox" => "truncated_box",
-        "fullbox" => "box",
-        w => w,
+        "box" | "truncatedbox" => Ok(TimeFilter::TruncatedBox),
+        "fullbox" => Ok(TimeFilter::Box),
+        w => w.parse().map_err(|_| {
+            format!(
+                "unknown time filter {w:?}; expected one of {} (`box` is the thesis's \
+                 truncated box)",
+                TIME_FILTER_WORDS.join(", ")
+            )
+        }),
     }
-    .to_string()
 }
 
-/// The text files' time filter name for a suite name, or `None` if a text file could not say
-/// it.
-pub fn time_filter_to_text(name: &str) -> Option<&str> {
-    match name {
-        "truncated_box" => Some("box"),
-        "box" => Some("fullbox"),
-        "fullbox" | "truncatedbox" => None,
-        n => Some(n),
+/// The text files' word for a time filter.
+pub fn time_filter_to_text(filter: TimeFilter) -> &'static str {
+    match filter {
+        TimeFilter::TruncatedBox => "box",
+        TimeFilter::Box => "fullbox",
+        f => f.name(),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampling::TimeFilter;
-    use crate::sampling::pointset;
 
     #[test]
-    fn every_sampler_name_round_trips_and_the_thesis_spellings_map() {
-        for set in pointset::ALL {
-            let text = point_set_to_text(set.name()).unwrap();
-            assert_eq!(point_set_from_text(text), set.name());
+    fn every_name_round_trips_and_the_thesis_spellings_map() {
+        for set in PointSetKind::ALL {
+            let text = point_set_to_text(set);
+            assert!(POINT_SET_WORDS.contains(&text));
+            assert_eq!(point_set_from_text(text), Ok(set));
+            assert_eq!(
+                point_set_from_text(set.name()),
+                Ok(set),
+                "suite names read too"
+            );
         }
         for f in TimeFilter::ALL {
-            let text = time_filter_to_text(f.name()).unwrap();
-            assert_eq!(time_filter_from_text(text), f.name());
+            let text = time_filter_to_text(f);
+            assert!(TIME_FILTER_WORDS.contains(&text));
+            assert_eq!(time_filter_from_text(text), Ok(f));
         }
-        assert_eq!(point_set_from_text("stratifiedmc"), "stratified");
-        assert_eq!(point_set_from_text("stratified"), "stratified");
-        assert_eq!(time_filter_from_text("box"), "truncated_box");
-        assert_eq!(time_filter_from_text("truncatedbox"), "truncated_box");
-        assert_eq!(time_filter_from_text("fullbox"), "box");
-        assert_eq!(time_filter_from_text("triangle"), "triangle");
-        // Names a reader would change cannot be written.
-        assert_eq!(point_set_to_text("stratifiedmc"), None);
-        assert_eq!(time_filter_to_text("fullbox"), None);
+        for w in POINT_SET_WORDS {
+            assert!(point_set_from_text(w).is_ok(), "{w}");
+        }
+        for w in TIME_FILTER_WORDS {
+            assert!(time_filter_from_text(w).is_ok(), "{w}");
+        }
+        assert_eq!(
+            point_set_from_text("stratifiedmc"),
+            Ok(PointSetKind::Stratified)
+        );
+        assert_eq!(time_filter_from_text("box"), Ok(TimeFilter::TruncatedBox));
+        assert_eq!(
+            time_filter_from_text("truncatedbox"),
+            Ok(TimeFilter::TruncatedBox)
+        );
+        assert_eq!(
+            time_filter_from_text("truncated_box"),
+            Ok(TimeFilter::TruncatedBox)
+        );
+        assert_eq!(time_filter_from_text("fullbox"), Ok(TimeFilter::Box));
+        assert_eq!(time_filter_from_text("triangle"), Ok(TimeFilter::Triangle));
+        let e = point_set_from_text("jittered").unwrap_err();
+        assert!(e.contains("random, stratifiedmc, stratified"), "{e}");
+        let e = time_filter_from_text("tent").unwrap_err();
+        assert!(e.contains("fullbox, box"), "{e}");
     }
 }

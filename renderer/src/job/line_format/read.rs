@@ -54,14 +54,23 @@ pub fn read(text: &str, path: &Path) -> Result<(JobFile, SourceMap)> {
             })
         })
         .collect::<Result<_>>()?;
+    // Each word is checked here, located by the map: `point_sets[2]` on line 5.
     let point_sets = counted(path, &lines, 3)?
         .iter()
-        .map(|w| names::point_set_from_text(w))
-        .collect();
+        .enumerate()
+        .map(|(i, w)| {
+            names::point_set_from_text(w)
+                .map_err(|e| SourceMap::error(Some(&map), path, &format!("point_sets[{i}]"), e))
+        })
+        .collect::<Result<_>>()?;
     let time_filters = counted(path, &lines, 5)?
         .iter()
-        .map(|w| names::time_filter_from_text(w))
-        .collect();
+        .enumerate()
+        .map(|(i, w)| {
+            names::time_filter_from_text(w)
+                .map_err(|e| SourceMap::error(Some(&map), path, &format!("time_filters[{i}]"), e))
+        })
+        .collect::<Result<_>>()?;
     let extension: Vec<Entry> = lines[7..].iter().map(Entry::of).collect();
     let first = extension.first().map_or(lines[6].number, |e| e.line);
     let context = "the job's extension lines (after the seven)".to_string();
@@ -172,8 +181,16 @@ fn scenes(e: &mut Entries) -> Result<Vec<String>> {
 /// `reference highestlevel` (the default) or `reference <spp>` with optional
 /// `referencepointset` and `referencetimefilter`.
 fn reference(e: &mut Entries) -> Result<ReferenceSpec> {
-    let point_set = e.word("referencepointset", "reference.point_set")?;
-    let time_filter = e.word("referencetimefilter", "reference.time_filter")?;
+    let point_set = e.choice(
+        "referencepointset",
+        "reference.point_set",
+        &names::POINT_SET_WORDS,
+    )?;
+    let time_filter = e.choice(
+        "referencetimefilter",
+        "reference.time_filter",
+        &names::TIME_FILTER_WORDS,
+    )?;
     let given = e.take("reference", "reference");
     let spp = match &given {
         None => None,
@@ -202,8 +219,10 @@ fn reference(e: &mut Entries) -> Result<ReferenceSpec> {
     match spp {
         Some(spp) => Ok(ReferenceSpec::Independent(IndependentReference {
             spp,
-            point_set: point_set.map(|w| names::point_set_from_text(&w)),
-            time_filter: time_filter.map(|w| names::time_filter_from_text(&w)),
+            // `choice` admitted only these words.
+            point_set: point_set.map(|w| names::point_set_from_text(&w).expect("a text word")),
+            time_filter: time_filter
+                .map(|w| names::time_filter_from_text(&w).expect("a text word")),
         })),
         None if point_set.is_some() || time_filter.is_some() => {
             let what = "`referencepointset` and `referencetimefilter` apply only to an \

@@ -8,8 +8,7 @@ use crate::text::{Out, names, quote};
 use anyhow::{Result, bail};
 
 /// The text of `f`. Fails only for what the seven lines cannot say: another format version, an
-/// empty list (its line would be blank, and blank lines are skipped), or a point set or time
-/// filter name that the reader would turn into another name.
+/// empty list (its line would be blank, and blank lines are skipped).
 pub fn write(f: &JobFile) -> Result<String> {
     if f.format != JOB_FORMAT {
         bail!(
@@ -17,8 +16,8 @@ pub fn write(f: &JobFile) -> Result<String> {
             f.format
         );
     }
-    let point_sets = spelled("point_sets", &f.point_sets, names::point_set_to_text)?;
-    let time_filters = spelled("time_filters", &f.time_filters, names::time_filter_to_text)?;
+    let point_sets = spelled(&f.point_sets, names::point_set_to_text);
+    let time_filters = spelled(&f.time_filters, names::time_filter_to_text);
     let levels: Vec<String> = f.levels.iter().map(u32::to_string).collect();
     let mut out = Out::default();
     out.bare(
@@ -45,21 +44,11 @@ pub fn write(f: &JobFile) -> Result<String> {
         ReferenceSpec::HighestLevel => out.raw(&["reference", "highestlevel"]),
         ReferenceSpec::Independent(r) => {
             out.number("reference", r.spp);
-            if let Some(ps) = &r.point_set {
-                let w = spelled(
-                    "reference.point_set",
-                    std::slice::from_ref(ps),
-                    names::point_set_to_text,
-                )?;
-                out.word("referencepointset", &w[0]);
+            if let Some(ps) = r.point_set {
+                out.word("referencepointset", names::point_set_to_text(ps));
             }
-            if let Some(tf) = &r.time_filter {
-                let w = spelled(
-                    "reference.time_filter",
-                    std::slice::from_ref(tf),
-                    names::time_filter_to_text,
-                )?;
-                out.word("referencetimefilter", &w[0]);
+            if let Some(tf) = r.time_filter {
+                out.word("referencetimefilter", names::time_filter_to_text(tf));
             }
         }
     }
@@ -86,15 +75,6 @@ pub fn write(f: &JobFile) -> Result<String> {
 }
 
 /// The text spellings of `names`, or an error naming the field of one that has none.
-fn spelled(field: &str, list: &[String], to_text: fn(&str) -> Option<&str>) -> Result<Vec<String>> {
-    list.iter()
-        .enumerate()
-        .map(|(i, n)| match to_text(n) {
-            Some(w) => Ok(w.to_string()),
-            None => bail!(
-                "field `{field}[{i}]` is {n:?}, which the text format reads as another name; \
-                 expected a name the sampler knows"
-            ),
-        })
-        .collect()
+fn spelled<T: Copy>(list: &[T], to_text: fn(T) -> &'static str) -> Vec<String> {
+    list.iter().map(|&n| to_text(n).to_string()).collect()
 }

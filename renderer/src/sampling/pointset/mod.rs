@@ -21,6 +21,7 @@ pub use random::Random;
 pub use sobol::Sobol;
 pub use stratified::Stratified;
 
+use crate::condition::PointSetKind;
 use anyhow::{Result, bail};
 
 /// The most points a set may have: [`crate::limits::MAX_SPP`].
@@ -69,15 +70,21 @@ pub(crate) fn coords(dims: usize, mut coord: impl FnMut(usize) -> f64) -> [f64; 
 /// Every point set, in the order help texts list them.
 pub const ALL: &[&dyn PointSet] = &[&Random, &Stratified, &Hammersley, &Poisson, &Sobol, &Halton];
 
+/// The point set `kind` names.
+pub fn of(kind: PointSetKind) -> &'static dyn PointSet {
+    match kind {
+        PointSetKind::Random => &Random,
+        PointSetKind::Stratified => &Stratified,
+        PointSetKind::Hammersley => &Hammersley,
+        PointSetKind::Poisson => &Poisson,
+        PointSetKind::Sobol => &Sobol,
+        PointSetKind::Halton => &Halton,
+    }
+}
+
 /// The point set called `name`; the error lists the known names.
 pub fn by_name(name: &str) -> Result<&'static dyn PointSet> {
-    match ALL.iter().find(|s| s.name() == name) {
-        Some(s) => Ok(*s),
-        None => bail!(
-            "unknown point set {name:?}; expected one of {}",
-            ALL.iter().map(|s| s.name()).collect::<Vec<_>>().join(", ")
-        ),
-    }
+    Ok(of(name.parse()?))
 }
 
 /// `n` points of `set` in `dims` dimensions, after checking every constraint.
@@ -163,6 +170,15 @@ mod tests {
                 assert_eq!(a, generate(*set, n, dims, 5).unwrap(), "{}", set.name());
             }
         }
+    }
+
+    #[test]
+    fn every_kind_names_its_set_in_the_same_order() {
+        for (kind, set) in PointSetKind::ALL.into_iter().zip(ALL) {
+            assert_eq!(of(kind).name(), kind.name());
+            assert_eq!(set.name(), kind.name());
+        }
+        assert_eq!(PointSetKind::ALL.len(), ALL.len());
     }
 
     #[test]

@@ -389,13 +389,26 @@ fn settings_block(e: &mut Entries) -> Result<Settings> {
         }
     };
     let default = SamplingConfig::default();
-    let point_set = e.word("pointset", "settings.sampling.point_set")?;
+    let point_set = e.choice(
+        "pointset",
+        "settings.sampling.point_set",
+        &names::POINT_SET_WORDS,
+    )?;
     let spp = e.integer::<u32>("numsamples", "settings.sampling.spp")?;
-    let time_filter = e.word("timefilter", "settings.sampling.time_filter")?;
+    let time_filter = e.choice(
+        "timefilter",
+        "settings.sampling.time_filter",
+        &names::TIME_FILTER_WORDS,
+    )?;
+    // `choice` admitted only the text words, each of which names a set or filter.
     let sampling = SamplingConfig {
-        point_set: point_set.map_or(default.point_set, |w| names::point_set_from_text(&w)),
+        point_set: point_set.map_or(default.point_set, |w| {
+            names::point_set_from_text(&w).expect("a text word")
+        }),
         spp: spp.unwrap_or(default.spp),
-        time_filter: time_filter.map_or(default.time_filter, |w| names::time_filter_from_text(&w)),
+        time_filter: time_filter.map_or(default.time_filter, |w| {
+            names::time_filter_from_text(&w).expect("a text word")
+        }),
         ..Default::default()
     }
     .with_options(&options::read(e, "settings.sampling", Host::Scene)?);

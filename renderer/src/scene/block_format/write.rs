@@ -13,8 +13,7 @@ use crate::text::sampling::{self as options, Host};
 use crate::text::{Out, names};
 use anyhow::{Result, bail};
 
-/// The text of `f`. Fails only for what the text cannot say: another format version, or a
-/// point set or time filter name that the reader would turn into another name.
+/// The text of `f`. Fails only for what the text cannot say: another format version.
 pub fn write(f: &SceneFile) -> Result<String> {
     if f.format != SCENE_FORMAT {
         bail!(
@@ -192,20 +191,10 @@ fn settings(
 }
 
 fn sampling(o: &mut Out, c: &SamplingConfig) -> Result<()> {
-    let Some(ps) = names::point_set_to_text(&c.point_set) else {
-        bail!(
-            "field `settings.sampling.point_set` is {:?}, which the text format reads as another \
-             name; expected a point set name",
-            c.point_set
-        );
-    };
-    let Some(tf) = names::time_filter_to_text(&c.time_filter) else {
-        bail!(
-            "field `settings.sampling.time_filter` is {:?}, which the text format reads as \
-             another name; expected a time filter name",
-            c.time_filter
-        );
-    };
+    let (ps, tf) = (
+        names::point_set_to_text(c.point_set),
+        names::time_filter_to_text(c.time_filter),
+    );
     o.word("pointset", ps);
     o.number("numsamples", c.spp);
     o.word("timefilter", tf);
