@@ -2,7 +2,8 @@
 
 use crate::export::{VideoFormat, export_job, y4m};
 use anyhow::Result;
-use clap::Args;
+use clap::builder::PossibleValue;
+use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
 /// Write every stimulus (or those given with --id) of a rendered job as a video file.
@@ -38,3 +39,31 @@ pub fn run(args: ExportArgs) -> Result<()> {
     }
     Ok(())
 }
+
+/// The flags' names (and help) for the export choices; the library's types know nothing of
+/// clap.
+macro_rules! value_enum {
+    ($ty:ty: $($variant:path => $name:literal $(: $help:literal)?),+ $(,)?) => {
+        impl ValueEnum for $ty {
+            fn value_variants<'a>() -> &'a [Self] {
+                &[$($variant),+]
+            }
+            fn to_possible_value(&self) -> Option<PossibleValue> {
+                Some(match self {
+                    $($variant => PossibleValue::new($name)$(.help($help))?),+
+                })
+            }
+        }
+    };
+}
+
+value_enum!(VideoFormat:
+    VideoFormat::Y4m => "y4m": "Uncompressed YUV4MPEG2 4:4:4 (no external program)",
+    VideoFormat::Ffv1 => "ffv1": "Lossless FFV1 in Matroska (needs ffmpeg)",
+    VideoFormat::H264 => "h264": "H.264 4:4:4 lossless (qp 0) in MP4 (needs ffmpeg)",
+);
+value_enum!(y4m::Matrix: y4m::Matrix::Bt601 => "bt601", y4m::Matrix::Bt709 => "bt709");
+value_enum!(y4m::Range:
+    y4m::Range::Limited => "limited": "Y in 16..235, Cb/Cr in 16..240 (the default of video players)",
+    y4m::Range::Full => "full": "Y, Cb, Cr in 0..255",
+);

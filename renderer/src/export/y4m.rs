@@ -10,14 +10,14 @@ use anyhow::{Context, Result, bail};
 use std::path::{Path, PathBuf};
 
 /// The colour matrix turning R'G'B' into Y'CbCr.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Matrix {
     Bt601,
     Bt709,
 }
 
 /// Quantisation range of the 8-bit samples.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Range {
     /// Y in 16..235, Cb/Cr in 16..240 (the default of video players).
     Limited,
