@@ -86,9 +86,9 @@ fn scene_source(scene: Scene, overrides: &Overrides) -> Result<Box<dyn FrameSour
 /// the scene frame shown as the stimulus's frame 0.
 #[derive(Clone, Debug)]
 pub struct SceneSource {
+    /// The scene at this source's size (sized once here, not per frame: a scene holds its
+    /// meshes and environment map).
     scene: Arc<Scene>,
-    width: u32,
-    height: u32,
     frames: u32,
     first_frame: u32,
 }
@@ -112,21 +112,12 @@ impl SceneSource {
         if o.width == Some(0) || o.height == Some(0) {
             bail!("the job's overrides `width` and `height` must be at least 1");
         }
+        let (width, height) = (o.width.unwrap_or(s.width), o.height.unwrap_or(s.height));
         Ok(Self {
-            width: o.width.unwrap_or(s.width),
-            height: o.height.unwrap_or(s.height),
+            scene: at_size(&scene, width, height),
             frames,
             first_frame,
-            scene,
         })
-    }
-
-    /// The scene at this source's size.
-    fn sized_scene(&self) -> Scene {
-        let mut scene = (*self.scene).clone();
-        scene.settings.width = self.width;
-        scene.settings.height = self.height;
-        scene
     }
 
     /// A stimulus's sampling: the job's point set, spp, time filter and whatever options the
@@ -139,17 +130,17 @@ impl SceneSource {
 impl FrameSource for SceneSource {
     fn setup(&self) -> FrameSetup {
         FrameSetup {
-            width: self.width,
-            height: self.height,
+            width: self.scene.settings.width,
+            height: self.scene.settings.height,
             frames: self.frames,
             fps: self.scene.settings.fps,
         }
     }
 
     fn render(&self, sampling: &SamplingConfig, seed: u64, frame: u32) -> Result<RenderedFrame> {
-        let scene = self.sized_scene();
+        let scene = &self.scene;
         let (film, _) = crate::render::render_frame(
-            &scene,
+            scene,
             &self.sampling(sampling),
             seed,
             self.first_frame + frame,
@@ -160,11 +151,22 @@ impl FrameSource for SceneSource {
 
     fn resized(&self, width: u32, height: u32) -> Result<Box<dyn FrameSource>> {
         Ok(Box::new(Self {
-            width,
-            height,
+            scene: at_size(&self.scene, width, height),
             ..self.clone()
         }))
     }
+}
+
+/// `scene` at `width` x `height`: itself when it has that size, else a copy with that size.
+fn at_size(scene: &Arc<Scene>, width: u32, height: u32) -> Arc<Scene> {
+    let s = &scene.settings;
+    if (s.width, s.height) == (width, height) {
+        return Arc::clone(scene);
+    }
+    let mut sized = (**scene).clone();
+    sized.settings.width = width;
+    sized.settings.height = height;
+    Arc::new(sized)
 }
 
 fn synthetic(text: &str, path: &Path, o: &Overrides) -> Result<Box<dyn FrameSource>> {
