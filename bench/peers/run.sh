@@ -14,13 +14,7 @@ repo="$(cd "$here/../.." && pwd)"
 cache="${BLURLAB_PEERS_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/blurlab-peers}"
 mkdir -p "$cache"
 
-llvm="$(ls /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/llvm-19/lib/libLLVM.so* 2>/dev/null | head -n1 || true)"
-if [ -z "$llvm" ]; then
-  echo "Mitsuba's llvm_ad_rgb needs LLVM 19: installing Debian's libllvm19" >&2
-  if [ "$(id -u)" = 0 ]; then apt-get install -y libllvm19 >&2; else sudo apt-get install -y libllvm19 >&2; fi
-  llvm="$(ls /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/llvm-19/lib/libLLVM.so* | head -n1)"
-fi
-export DRJIT_LIBLLVM_PATH="$llvm"
+source "$here/llvm19.sh"
 
 if [ ! -x "$cache/venv/bin/python" ]; then
   python3 -m venv "$cache/venv"

@@ -23,13 +23,7 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$repo/target}"
 bin="$CARGO_TARGET_DIR/release/examples"
 
 if [ "$which" = mitsuba ] || [ "$which" = both ]; then
-  llvm="$(ls /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/llvm-19/lib/libLLVM.so* 2>/dev/null | head -n1 || true)"
-  if [ -z "$llvm" ]; then
-    echo "Mitsuba's llvm_ad_rgb needs LLVM 19: installing Debian's libllvm19" >&2
-    if [ "$(id -u)" = 0 ]; then apt-get install -y libllvm19 >&2; else sudo apt-get install -y libllvm19 >&2; fi
-    llvm="$(ls /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/llvm-19/lib/libLLVM.so* | head -n1)"
-  fi
-  export DRJIT_LIBLLVM_PATH="$llvm"
+  source "$here/llvm19.sh"
   [ -x "$cache/venv/bin/python" ] || python3 -m venv "$cache/venv"
   "$cache/venv/bin/pip" install --quiet --disable-pip-version-check 'mitsuba>=3.9,<4' numpy
   # Mitsuba's warnings (the orthogonal sampler rounds 16 spp up to 25) go to stdout too.

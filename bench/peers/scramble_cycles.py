@@ -25,9 +25,7 @@ import math
 import os
 import platform
 import statistics
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -35,24 +33,15 @@ import numpy as np
 import bpy
 from mathutils import Matrix, Vector
 
-SIZE = 256
-EYE, TARGET, FOV = [0.0, 2.2, 6.0], [0.0, 0.8, 0.0], 35.0
-TOWARDS = np.array([0.4, 1.0, 0.3]) / np.linalg.norm([0.4, 1.0, 0.3])
-SPHERE, GROUND = 0.7, 0.5
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+# The matched scene's camera, light and albedos are the static comparison's (peers.py); the
+# suite's side is timed and rendered as in scramble.py.
+from peers import EYE, FOV, GROUND, SIZE, SPHERE, TARGET, TOWARDS, cpu, field, rmse  # noqa: E402
+from scramble import POINT_SETS, RANDOMIZATIONS, affordable, ours, time_spp  # noqa: E402
+
 SHUTTER = 0.1  # scene seconds; frame 0's shutter is [-SHUTTER/2, SHUTTER/2]
 TRAVEL = 1.0  # units along x during the shutter
 CYCLES_T0, CYCLES_T1 = 0.5 / 256, 254.5 / 256  # the part of the shutter Cycles samples (fitted)
-POINT_SETS = ["random", "stratified", "hammersley", "poisson", "sobol", "halton"]
-RANDOMIZATIONS = ["shift", "scramble"]
-
-
-def cpu():
-    return time.process_time()
-
-
-def field(line, name):
-    words = line.split()
-    return float(words[words.index(name) + 1])
 
 
 def suite_scene(path):
@@ -253,46 +242,6 @@ class Cycles:
 
 
 # ---------------------------------------------------------------- the suite
-
-
-def ours(args, scene, spp, point_set, randomization, seed, out=None):
-    cmd = [str(args.bin / "sample_cost"), str(scene), "--spp", str(spp), "--point-set",
-           point_set, "--randomization", randomization, "--rounds", "1", "--seed", str(seed)]
-    if out is not None:
-        cmd += ["--out", str(out)]
-    lines = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.splitlines()
-    line = [l for l in lines if l.startswith("round")][0]
-    img = None
-    if out is not None:
-        img = np.fromfile(out, dtype="<f4").reshape(SIZE, SIZE, 3).astype(np.float64)
-    return field(line, "cpu_s"), img
-
-
-def rmse(a, b_):
-    return float(np.sqrt(np.mean((a - b_) ** 2)))
-
-
-def time_spp(point_set, args):
-    """The spp a set is timed at: --time-spp, or for stratified (a 3D jittered grid needs a
-    cube) the cube nearest it."""
-    if point_set != "stratified":
-        return args.time_spp
-    k = max(1, round(args.time_spp ** (1 / 3)))
-    return min((j ** 3 for j in (k - 1, k, k + 1) if j >= 1),
-               key=lambda n: abs(n - args.time_spp))
-
-
-def affordable(point_set, budget_s, ns):
-    """The largest spp the set accepts whose estimated CPU time is within budget_s."""
-    n = max(1, int(budget_s / (ns * 1e-9 * SIZE * SIZE)))
-    if point_set == "stratified":  # a 3D jittered grid needs a cube
-        k = max(1, int(round(n ** (1 / 3))))
-        while k ** 3 > n and k > 1:
-            k -= 1
-        while (k + 1) ** 3 <= n:
-            k += 1
-        n = k ** 3
-    return n
 
 
 def main():
