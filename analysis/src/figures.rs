@@ -56,11 +56,7 @@ pub fn draw_all(report: &Report, dir: &Path) -> Result<Vec<String>> {
         (Grouping::TimeFilter, "time_filter", "All time filters"),
         (Grouping::Condition, "", "All conditions"),
     ] {
-        let groups: Vec<&GroupResult> = report
-            .groups
-            .iter()
-            .filter(|g| g.key.grouping == grouping)
-            .collect();
+        let groups: Vec<&GroupResult> = report.groups_of(grouping).collect();
         if groups.is_empty() {
             continue;
         }

@@ -51,7 +51,7 @@ impl Report {
     pub fn summary(&self) -> Summary {
         let mut rows = Vec::new();
         for grouping in [Grouping::Scene, Grouping::PointSet, Grouping::TimeFilter] {
-            for g in self.groups.iter().filter(|g| g.key.grouping == grouping) {
+            for g in self.groups_of(grouping) {
                 rows.push(SummaryRow {
                     grouping,
                     label: g.key.label.clone(),

@@ -78,12 +78,7 @@ pub fn side_by_side(report: &Report, design: &Design, observer: &Observer) -> Ve
     ];
     order
         .iter()
-        .flat_map(|&grouping| {
-            report
-                .groups
-                .iter()
-                .filter(move |g| g.key.grouping == grouping)
-        })
+        .flat_map(|&grouping| report.groups_of(grouping))
         .map(|g| JndPair {
             grouping: g.key.grouping,
             label: g.key.label.clone(),

@@ -146,11 +146,7 @@ impl Report {
              Per-subject thresholds of each condition are in `jnd.csv`.\n"
         );
         for grouping in [Grouping::Scene, Grouping::PointSet] {
-            let groups: Vec<&GroupResult> = self
-                .groups
-                .iter()
-                .filter(|g| g.key.grouping == grouping)
-                .collect();
+            let groups: Vec<&GroupResult> = self.groups_of(grouping).collect();
             if groups.is_empty() {
                 continue;
             }

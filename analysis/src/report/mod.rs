@@ -4,7 +4,7 @@
 
 use crate::bootstrap::{BootstrapResult, BootstrapSettings, bootstrap};
 use crate::comparisons::{Comparison, ComparisonSettings, compare};
-use crate::data::{Dataset, Exclusion, Group, GroupKey, Source};
+use crate::data::{Dataset, Exclusion, Group, GroupKey, Grouping, Source};
 use crate::jnd::{Threshold, crossing, empirical_threshold, model_threshold};
 use crate::psychometric::{Fit, FitSettings, fit};
 use serde::Serialize;
@@ -112,6 +112,15 @@ pub struct Report {
     pub excluded: Vec<Exclusion>,
     pub groups: Vec<GroupResult>,
     pub comparisons: Vec<Comparison>,
+}
+
+impl Report {
+    /// The results of one grouping, in the report's order.
+    pub fn groups_of(&self, grouping: Grouping) -> impl Iterator<Item = &GroupResult> {
+        self.groups
+            .iter()
+            .filter(move |g| g.key.grouping == grouping)
+    }
 }
 
 /// Fit, bootstrap and test everything.

@@ -205,11 +205,7 @@ impl Report {
         );
         let _ = writeln!(md, "|---|---|---|---|---|");
         for family in [Grouping::Scene, Grouping::PointSet] {
-            let mut groups: Vec<_> = self
-                .groups
-                .iter()
-                .filter(|g| g.key.grouping == family)
-                .collect();
+            let mut groups: Vec<_> = self.groups_of(family).collect();
             groups.sort_by_key(|g| (s.comparisons.order.rank(family, &g.key.label), &g.key.label));
             for g in groups {
                 let _ = writeln!(
