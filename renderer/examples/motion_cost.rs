@@ -46,19 +46,13 @@ enum Side {
     Frozen,
 }
 
+#[path = "shared/median.rs"]
+mod median;
+use median::median;
+
 #[path = "shared/thread_cpu.rs"]
 mod thread_cpu;
 use thread_cpu::thread_cpu_ns;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
 
 fn main() -> Result<()> {
     let args = Args::parse();

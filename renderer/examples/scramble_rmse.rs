@@ -59,6 +59,10 @@ struct Args {
     cost: bool,
 }
 
+#[path = "shared/median.rs"]
+mod median;
+use median::median;
+
 #[path = "shared/thread_cpu.rs"]
 mod thread_cpu;
 
@@ -98,16 +102,6 @@ fn cost(args: &Args) -> Result<()> {
         println!("| {ps} | {:.1} | {:.1} |", cells[0], cells[1]);
     }
     Ok(())
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
 }
 
 /// (HDR RMSE, clamped RMSE) of `a` against `r`.
