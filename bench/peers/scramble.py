@@ -72,6 +72,18 @@ def affordable(point_set, budget_s, ns):
     return n
 
 
+def report_best(report, table, peer):
+    """Name the peer's best sampler and each randomization's best point set in `report`, with
+    the latter's RMSE over the former's."""
+    best_peer = min((v["rmse"], k) for k, v in table.items() if k.startswith(peer))
+    report[f"best_{peer}"] = best_peer[1]
+    for r in RANDOMIZATIONS:
+        best = min((v["rmse"], k) for k, v in table.items()
+                   if k.startswith("suite") and k.endswith(" " + r))
+        report[f"best_{r}"] = best[1]
+        report[f"best_{r}_rmse_over_best_{peer}_rmse"] = best[0] / best_peer[0]
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--bin", type=Path, required=True)
@@ -147,13 +159,7 @@ def main():
             "spp": spp, "rmse": statistics.mean(errs),
             "cpu_s_over_budget": round(statistics.median(times) / budget, 3)}
     report["equal_time"] = table
-    best_m = min((v["rmse"], k) for k, v in table.items() if k.startswith("mitsuba"))
-    report["best_mitsuba"] = best_m[1]
-    for r in RANDOMIZATIONS:
-        best = min((v["rmse"], k) for k, v in table.items()
-                   if k.startswith("suite") and k.endswith(" " + r))
-        report[f"best_{r}"] = best[1]
-        report[f"best_{r}_rmse_over_best_mitsuba_rmse"] = best[0] / best_m[0]
+    report_best(report, table, "mitsuba")
     report["load_average_after"] = " ".join(f"{x:.1f}" for x in os.getloadavg())
     print("\n" + json.dumps(report, indent=2), flush=True)  # on its own lines: see scramble.sh
 

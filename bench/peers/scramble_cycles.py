@@ -37,7 +37,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 # The matched scene's camera, light and albedos are the static comparison's (peers.py); the
 # suite's side is timed and rendered as in scramble.py.
 from peers import EYE, FOV, GROUND, SIZE, SPHERE, TARGET, TOWARDS, cpu, field, rmse  # noqa: E402
-from scramble import POINT_SETS, RANDOMIZATIONS, affordable, ours, time_spp  # noqa: E402
+from scramble import POINT_SETS, RANDOMIZATIONS, affordable, ours, report_best, time_spp  # noqa: E402
 
 SHUTTER = 0.1  # scene seconds; frame 0's shutter is [-SHUTTER/2, SHUTTER/2]
 TRAVEL = 1.0  # units along x during the shutter
@@ -335,13 +335,7 @@ def main():
         table[f"suite {c[0]} {c[1]}"] = {"spp": spp, "rmse": statistics.mean(errs),
                                          "cpu_s_over_budget": statistics.median(times) / t_budget}
     report["equal_time"] = table
-    best_c = min((v["rmse"], k) for k, v in table.items() if k.startswith("cycles"))
-    report["best_cycles"] = best_c[1]
-    for r in RANDOMIZATIONS:
-        best = min((v["rmse"], k) for k, v in table.items()
-                   if k.startswith("suite") and k.endswith(" " + r))
-        report[f"best_{r}"] = best[1]
-        report[f"best_{r}_rmse_over_best_cycles_rmse"] = best[0] / best_c[0]
+    report_best(report, table, "cycles")
     report["load_average_after"] = " ".join(f"{x:.1f}" for x in os.getloadavg())
     print("\n" + json.dumps(report, indent=2), flush=True)  # on its own lines: see scramble.sh
 
