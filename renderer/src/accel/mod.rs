@@ -5,6 +5,7 @@
 //! a shutter interval; [`chain`] the per-ray form of a spinning pose. See `docs/geometry.md`.
 
 pub mod chain;
+pub mod packet;
 pub mod pose;
 pub mod swept;
 pub mod world;

@@ -12,6 +12,7 @@
 //!
 //! [`TriangleMesh::new`]: crate::geometry::TriangleMesh::new
 
+use super::packet::SmallWorld;
 use super::pose::{Pose, PoseOverTime};
 use super::swept::swept_bounds;
 use super::{Instance, SurfaceHit};
@@ -33,6 +34,8 @@ pub struct World {
     /// Instances without finite bounds (infinite planes), tested by every ray.
     unbounded: Vec<u32>,
     shutter: (f32, f32),
+    /// The four-lane form, for a world of a few spheres and planes ([`SmallWorld`]).
+    small: Option<SmallWorld>,
 }
 
 impl std::fmt::Debug for World {
@@ -83,6 +86,8 @@ impl World {
                 &mut Duration::default(),
             ))
         };
+        let shapes: Vec<_> = instances.iter().map(|i| i.shape.clone()).collect();
+        let small = SmallWorld::new(&shapes, &poses);
         Self {
             instances,
             poses,
@@ -90,7 +95,13 @@ impl World {
             bounded,
             unbounded,
             shutter,
+            small,
         }
+    }
+
+    /// The four-lane form, if this world is small and analytic enough to have one.
+    pub fn small(&self) -> Option<&SmallWorld> {
+        self.small.as_ref()
     }
 
     pub fn instances(&self) -> &[Instance] {
@@ -102,7 +113,7 @@ impl World {
         self.poses.iter().all(PoseOverTime::is_fixed)
     }
 
-    fn in_shutter(&self, ray: &Ray) -> bool {
+    pub(super) fn in_shutter(&self, ray: &Ray) -> bool {
         ray.time >= self.shutter.0 && ray.time <= self.shutter.1
     }
 
@@ -140,17 +151,28 @@ impl World {
             }
         }
         let (instance, h, pose) = best?;
+        Some(self.surface_hit_at(ray, instance, h, &pose))
+    }
+
+    /// The world-space hit of `ray` on `instance` at `h`, which the instance's shape found for
+    /// the ray in its object space ([`World::intersect`]'s last step).
+    pub(crate) fn surface_hit(&self, ray: &Ray, instance: u32, h: ShapeHit) -> SurfaceHit {
+        let pose = self.poses[instance as usize].at(ray.time);
+        self.surface_hit_at(ray, instance, h, &pose)
+    }
+
+    fn surface_hit_at(&self, ray: &Ray, instance: u32, h: ShapeHit, pose: &Pose) -> SurfaceHit {
         let inst = &self.instances[instance as usize];
         let local = pose.ray_to_object(ray);
         let o = inst.shape.surface(&local, h);
-        Some(SurfaceHit {
+        SurfaceHit {
             t: h.t,
             point: ray.at(h.t),
             geometric_normal: pose.normal_to_world(o.geometric_normal).normalize_or_zero(),
             shading_normal: pose.normal_to_world(o.shading_normal).normalize_or_zero(),
             instance,
             material: inst.material,
-        })
+        }
     }
 
     /// Whether anything is hit with `ray.t_min < t < ray.t_max` (shadow rays; stops at the
