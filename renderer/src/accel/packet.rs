@@ -157,20 +157,15 @@ impl Ray4 {
     }
 
     pub fn new(rays: &[Ray; 4]) -> Self {
-        let lanes = |f: &dyn Fn(&Ray) -> f32| f32x4::new(rays.each_ref().map(f));
+        let lanes = |v: [Vec3A; 4]| -> [f32x4; 3] {
+            let v = v.map(|v| v.to_array());
+            std::array::from_fn(|k| f32x4::new([v[0][k], v[1][k], v[2][k], v[3][k]]))
+        };
         Self {
-            origin: [
-                lanes(&|r| r.origin.x),
-                lanes(&|r| r.origin.y),
-                lanes(&|r| r.origin.z),
-            ],
-            dir: [
-                lanes(&|r| r.dir.x),
-                lanes(&|r| r.dir.y),
-                lanes(&|r| r.dir.z),
-            ],
-            time: lanes(&|r| r.time),
-            t_max: lanes(&|r| r.t_max),
+            origin: lanes(rays.each_ref().map(|r| r.origin)),
+            dir: lanes(rays.each_ref().map(|r| r.dir)),
+            time: f32x4::new(rays.each_ref().map(|r| r.time)),
+            t_max: f32x4::new(rays.each_ref().map(|r| r.t_max)),
         }
     }
 }
