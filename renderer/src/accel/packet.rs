@@ -11,7 +11,7 @@
 //! does the scalar code's f32 operations in the scalar code's order (glam's SSE2 `dot` is
 //! `(x x' + y y') + z z'`, `Mat3A * v` is `(c0 v.x + c1 v.y) + c2 v.z`; Rust never fuses a
 //! multiply-add), so a lane's parameter `t` is the scalar one to the bit. The winner's normals
-//! are then worked out by the scalar code itself ([`World::surface_hit`]). What brute force
+//! are worked out lane by lane the same way. What brute force
 //! cannot promise, the lane hands back to the scalar path:
 //! - two instances at exactly the same nearest `t` (the scalar path keeps the first in its
 //!   top-level BVH order, which brute force does not know);
@@ -25,10 +25,10 @@
 //! win. Spinning instances are not packet-eligible (their per-ray pose is a chain of
 //! rotations); fixed and translating ones, turned or not, are computed exactly.
 
-use super::SurfaceHit;
 use super::World;
 use super::pose::{Pose, PoseOverTime};
-use crate::geometry::{Ray, Shape, ShapeHit};
+use super::{Instance, SurfaceHit};
+use crate::geometry::{Ray, Shape};
 use glam::{Mat3A, Vec3A};
 use wide::f32x4;
 
@@ -47,6 +47,7 @@ pub struct SmallWorld {
 struct SmallShape {
     kind: Kind,
     pose: SmallPose,
+    material: u32,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -68,6 +69,8 @@ struct SmallPose {
     translation: Vec3A,
     velocity: Option<Vec3A>,
     matrix: Option<Mat3A>,
+    /// `matrix` transposed (normals go to world space through it).
+    transposed: Mat3A,
 }
 
 impl SmallPose {
@@ -81,6 +84,7 @@ impl SmallPose {
             translation: p.translation,
             velocity,
             matrix: (!p.unturned).then_some(p.object_from_world),
+            transposed: p.object_from_world.transpose(),
         })
     }
 
@@ -210,7 +214,48 @@ fn plane(half: Option<(f32, f32)>, o: &[f32x4; 3], d: &[f32x4; 3], t_max: f32x4)
     ok.bitselect(t, f32x4::splat(f32::INFINITY))
 }
 
+/// `o + d t` lane by lane ([`Ray::at`]).
+#[inline(always)]
+fn point_at(o: &[f32x4; 3], d: &[f32x4; 3], t: f32x4) -> [f32x4; 3] {
+    std::array::from_fn(|k| o[k] + d[k] * t)
+}
+
+/// The four lanes as vectors.
+#[inline(always)]
+fn lanes_of(v: &[f32x4; 3]) -> [Vec3A; 4] {
+    let [x, y, z] = v.map(|c| c.to_array());
+    std::array::from_fn(|i| Vec3A::new(x[i], y[i], z[i]))
+}
+
+/// glam's `normalize_or_zero` lane by lane: `v * (1 / sqrt(v.v))` where that factor is finite
+/// and positive, else zero.
+#[inline(always)]
+fn normalize_or_zero(v: [f32x4; 3]) -> [f32x4; 3] {
+    let rcp = f32x4::ONE / dot(&v, &v).sqrt();
+    let ok = rcp.is_finite() & rcp.simd_gt(f32x4::ZERO);
+    v.map(|c| ok.bitselect(c * rcp, f32x4::ZERO))
+}
+
 impl SmallShape {
+    /// The unit world-space normal at parameter `t` of each lane's ray (geometric and shading
+    /// normal alike for spheres and planes): the object-space normal ([`Shape::surface`]),
+    /// through the inverse transpose, normalised, as [`World::intersect`] does it.
+    #[inline(always)]
+    fn world_normal(&self, ray: &Ray4, t: f32x4) -> [f32x4; 3] {
+        let local = match self.kind {
+            Kind::Sphere { .. } => {
+                let (o, d) = self.pose.ray_to_object(ray);
+                point_at(&o, &d, t)
+            }
+            Kind::Plane { .. } => [f32x4::ZERO, f32x4::ONE, f32x4::ZERO],
+        };
+        let world = match self.pose.matrix {
+            None => local,
+            Some(_) => mul(&self.pose.transposed, local),
+        };
+        normalize_or_zero(world)
+    }
+
     /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none.
     #[inline(always)]
     fn closest(&self, ray: &Ray4) -> f32x4 {
@@ -225,15 +270,15 @@ impl SmallShape {
 impl SmallWorld {
     /// The packet form of a world with these instances and poses, or `None` if it has a mesh,
     /// a spinning instance, or more than [`MAX_INSTANCES`] instances.
-    pub fn new(shapes: &[Shape], poses: &[PoseOverTime]) -> Option<Self> {
-        if shapes.len() > MAX_INSTANCES {
+    pub fn new(instances: &[Instance], poses: &[PoseOverTime]) -> Option<Self> {
+        if instances.len() > MAX_INSTANCES {
             return None;
         }
-        let shapes = shapes
+        let shapes = instances
             .iter()
             .zip(poses)
-            .map(|(shape, pose)| {
-                let kind = match shape {
+            .map(|(instance, pose)| {
+                let kind = match &instance.shape {
                     Shape::Sphere(s) => Kind::Sphere { radius: s.radius },
                     Shape::Plane(p) => Kind::Plane {
                         half_extent: p.half_extent.map(|h| (h.x, h.y)),
@@ -243,6 +288,7 @@ impl SmallWorld {
                 Some(SmallShape {
                     kind,
                     pose: SmallPose::new(pose)?,
+                    material: instance.material,
                 })
             })
             .collect::<Option<Vec<_>>>()?;
@@ -260,30 +306,64 @@ impl SmallWorld {
     /// [`World::intersect`] for each live lane (bit `i` of `live`); `None` for the others.
     pub fn intersect4(&self, world: &World, rays: &[Ray; 4], live: u32) -> [Option<SurfaceHit>; 4] {
         let simple = Self::simple_lanes(world, rays, live);
-        let mut nearest = Nearest::new();
+        let mut fast = [None; 4];
         if simple != 0 {
             let ray4 = Ray4::of(rays, simple);
+            let mut nearest = Nearest::new();
             for (i, shape) in self.shapes.iter().enumerate() {
                 nearest.add(shape.closest(&ray4), i as u32);
             }
+            fast = self.surfaces(&ray4, &nearest, simple);
         }
-        let (t, tie) = (nearest.t.to_array(), nearest.tie.to_bitmask());
         std::array::from_fn(|i| {
-            let ray = &rays[i];
             if live & (1 << i) == 0 {
                 None
-            } else if simple & (1 << i) == 0 || tie & (1 << i) != 0 {
-                world.intersect(ray)
-            } else if t[i] == f32::INFINITY {
-                None
+            } else if simple & (1 << i) == 0 {
+                world.intersect(&rays[i])
             } else {
-                let hit = ShapeHit {
-                    t: t[i],
-                    primitive: 0,
-                };
-                Some(world.surface_hit(ray, nearest.instance[i], hit))
+                fast[i].unwrap_or_else(|| world.intersect(&rays[i]))
             }
         })
+    }
+
+    /// The world-space hits of the lanes of `simple` ([`World::intersect`]'s last step),
+    /// one instance at a time for the lanes it won: `Some(None)` for a miss, `None` for a tie
+    /// (left to the scalar path).
+    fn surfaces(
+        &self,
+        ray: &Ray4,
+        nearest: &Nearest,
+        simple: u32,
+    ) -> [Option<Option<SurfaceHit>>; 4] {
+        let (t, tie) = (nearest.t.to_array(), nearest.tie.to_bitmask());
+        let hit = nearest.t.simd_lt(f32x4::splat(f32::INFINITY)).to_bitmask();
+        let miss = simple & !tie & !hit;
+        let mut out: [_; 4] = std::array::from_fn(|i| (miss & (1 << i) != 0).then_some(None));
+        let mut pending = simple & !tie & hit;
+        if pending == 0 {
+            return out;
+        }
+        let point = point_at(&ray.origin, &ray.dir, nearest.t);
+        let point = lanes_of(&point);
+        while pending != 0 {
+            let instance = nearest.instance[pending.trailing_zeros() as usize];
+            let shape = &self.shapes[instance as usize];
+            let normal = lanes_of(&shape.world_normal(ray, nearest.t));
+            for (i, slot) in out.iter_mut().enumerate() {
+                if pending & (1 << i) != 0 && nearest.instance[i] == instance {
+                    *slot = Some(Some(SurfaceHit {
+                        t: t[i],
+                        point: point[i],
+                        geometric_normal: normal[i],
+                        shading_normal: normal[i],
+                        instance,
+                        material: shape.material,
+                    }));
+                    pending &= !(1 << i);
+                }
+            }
+        }
+        out
     }
 
     /// [`World::occluded`] for each live lane (bit `i` of `live`); `false` for the others.

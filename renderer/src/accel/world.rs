@@ -86,8 +86,7 @@ impl World {
                 &mut Duration::default(),
             ))
         };
-        let shapes: Vec<_> = instances.iter().map(|i| i.shape.clone()).collect();
-        let small = SmallWorld::new(&shapes, &poses);
+        let small = SmallWorld::new(&instances, &poses);
         Self {
             instances,
             poses,
@@ -151,28 +150,17 @@ impl World {
             }
         }
         let (instance, h, pose) = best?;
-        Some(self.surface_hit_at(ray, instance, h, &pose))
-    }
-
-    /// The world-space hit of `ray` on `instance` at `h`, which the instance's shape found for
-    /// the ray in its object space ([`World::intersect`]'s last step).
-    pub(crate) fn surface_hit(&self, ray: &Ray, instance: u32, h: ShapeHit) -> SurfaceHit {
-        let pose = self.poses[instance as usize].at(ray.time);
-        self.surface_hit_at(ray, instance, h, &pose)
-    }
-
-    fn surface_hit_at(&self, ray: &Ray, instance: u32, h: ShapeHit, pose: &Pose) -> SurfaceHit {
         let inst = &self.instances[instance as usize];
         let local = pose.ray_to_object(ray);
         let o = inst.shape.surface(&local, h);
-        SurfaceHit {
+        Some(SurfaceHit {
             t: h.t,
             point: ray.at(h.t),
             geometric_normal: pose.normal_to_world(o.geometric_normal).normalize_or_zero(),
             shading_normal: pose.normal_to_world(o.shading_normal).normalize_or_zero(),
             instance,
             material: inst.material,
-        }
+        })
     }
 
     /// Whether anything is hit with `ray.t_min < t < ray.t_max` (shadow rays; stops at the
