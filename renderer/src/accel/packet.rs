@@ -187,9 +187,13 @@ fn sphere(radius: f32, o: &[f32x4; 3], d: &[f32x4; 3], t_max: f32x4) -> f32x4 {
     let f = dot(&foot, &foot).sqrt();
     let disc = a * ((r - f) * (r + f));
     // `signum`: 1 with half_b's sign (a NaN half_b makes q NaN either way).
+    let ok = a.simd_ne(f32x4::ZERO) & a.is_finite() & disc.simd_ge(f32x4::ZERO);
+    if !ok.any() {
+        // Every lane misses: skip the roots' square root and two divisions.
+        return f32x4::splat(f32::INFINITY);
+    }
     let sign = (half_b & f32x4::splat(-0.0)) | f32x4::ONE;
     let q = -(half_b + sign * disc.sqrt());
-    let ok = a.simd_ne(f32x4::ZERO) & a.is_finite() & disc.simd_ge(f32x4::ZERO);
     // q == 0 gives the roots (0, 0) in the scalar code: never above t_min = 0.
     let ok = ok & q.simd_ne(f32x4::ZERO);
     let (t0, t1) = min_max(q / a, c / q);
@@ -306,64 +310,61 @@ impl SmallWorld {
     /// [`World::intersect`] for each live lane (bit `i` of `live`); `None` for the others.
     pub fn intersect4(&self, world: &World, rays: &[Ray; 4], live: u32) -> [Option<SurfaceHit>; 4] {
         let simple = Self::simple_lanes(world, rays, live);
-        let mut fast = [None; 4];
+        let mut out = [None; 4];
+        let mut scalar = live & !simple;
         if simple != 0 {
             let ray4 = Ray4::of(rays, simple);
             let mut nearest = Nearest::new();
             for (i, shape) in self.shapes.iter().enumerate() {
                 nearest.add(shape.closest(&ray4), i as u32);
             }
-            fast = self.surfaces(&ray4, &nearest, simple);
+            scalar |= self.surfaces(&ray4, &nearest, simple, &mut out);
         }
-        std::array::from_fn(|i| {
-            if live & (1 << i) == 0 {
-                None
-            } else if simple & (1 << i) == 0 {
-                world.intersect(&rays[i])
-            } else {
-                fast[i].unwrap_or_else(|| world.intersect(&rays[i]))
+        for (i, slot) in out.iter_mut().enumerate() {
+            if scalar & (1 << i) != 0 {
+                *slot = world.intersect(&rays[i]);
             }
-        })
+        }
+        out
     }
 
-    /// The world-space hits of the lanes of `simple` ([`World::intersect`]'s last step),
-    /// one instance at a time for the lanes it won: `Some(None)` for a miss, `None` for a tie
-    /// (left to the scalar path).
+    /// The world-space hits of the lanes of `simple` that hit one instance first
+    /// ([`World::intersect`]'s last step), one instance at a time for the lanes it won;
+    /// returns the lanes with a tie, left to the scalar path.
     fn surfaces(
         &self,
         ray: &Ray4,
         nearest: &Nearest,
         simple: u32,
-    ) -> [Option<Option<SurfaceHit>>; 4] {
-        let (t, tie) = (nearest.t.to_array(), nearest.tie.to_bitmask());
+        out: &mut [Option<SurfaceHit>; 4],
+    ) -> u32 {
+        let tie = simple & nearest.tie.to_bitmask();
         let hit = nearest.t.simd_lt(f32x4::splat(f32::INFINITY)).to_bitmask();
-        let miss = simple & !tie & !hit;
-        let mut out: [_; 4] = std::array::from_fn(|i| (miss & (1 << i) != 0).then_some(None));
         let mut pending = simple & !tie & hit;
         if pending == 0 {
-            return out;
+            return tie;
         }
-        let point = point_at(&ray.origin, &ray.dir, nearest.t);
-        let point = lanes_of(&point);
+        let t = nearest.t.to_array();
+        let point = lanes_of(&point_at(&ray.origin, &ray.dir, nearest.t));
         while pending != 0 {
             let instance = nearest.instance[pending.trailing_zeros() as usize];
             let shape = &self.shapes[instance as usize];
             let normal = lanes_of(&shape.world_normal(ray, nearest.t));
             for (i, slot) in out.iter_mut().enumerate() {
                 if pending & (1 << i) != 0 && nearest.instance[i] == instance {
-                    *slot = Some(Some(SurfaceHit {
+                    *slot = Some(SurfaceHit {
                         t: t[i],
                         point: point[i],
                         geometric_normal: normal[i],
                         shading_normal: normal[i],
                         instance,
                         material: shape.material,
-                    }));
+                    });
                     pending &= !(1 << i);
                 }
             }
         }
-        out
+        tie
     }
 
     /// [`World::occluded`] for each live lane (bit `i` of `live`); `false` for the others.
