@@ -112,7 +112,12 @@ impl World {
         self.poses.iter().all(PoseOverTime::is_fixed)
     }
 
-    pub(super) fn in_shutter(&self, ray: &Ray) -> bool {
+    /// The shutter interval the top level was built for.
+    pub(super) fn shutter(&self) -> (f32, f32) {
+        self.shutter
+    }
+
+    fn in_shutter(&self, ray: &Ray) -> bool {
         ray.time >= self.shutter.0 && ray.time <= self.shutter.1
     }
 

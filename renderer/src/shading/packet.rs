@@ -14,6 +14,7 @@ use super::{Tracer, facing_normals, lit_by, shadow_ray};
 use crate::accel::SurfaceHit;
 use crate::accel::packet::SmallWorld;
 use crate::geometry::Ray;
+use crate::light::LightSample;
 use crate::material::Material;
 use glam::{Vec3, Vec3A};
 
@@ -65,24 +66,30 @@ impl Tracer<'_> {
         surfaces: &[Option<Surface>; 4],
     ) -> [Vec3; 4] {
         let mut sum = [Vec3::ZERO; 4];
+        // Filled in place per light (lanes outside `live` keep stale rays, never read).
+        let mut shadows = *rays;
+        let mut samples: [Option<(LightSample, f32)>; 4] = [None; 4];
         for light in &self.scene.lights {
-            let prepared: [_; 4] = std::array::from_fn(|i| {
-                let s = surfaces[i].as_ref().filter(|s| s.m.lit())?;
-                shadow_ray(&rays[i], &s.hit, s.ng, s.ns, light)
-            });
-            let live = (0..4)
-                .filter(|&i| prepared[i].is_some())
-                .fold(0, |m, i| m | (1 << i));
+            let mut live = 0;
+            for (i, surface) in surfaces.iter().enumerate() {
+                samples[i] = None;
+                let Some(s) = surface.as_ref().filter(|s| s.m.lit()) else {
+                    continue;
+                };
+                if let Some((shadow, sample, cos)) = shadow_ray(&rays[i], &s.hit, s.ng, s.ns, light)
+                {
+                    shadows[i] = shadow;
+                    samples[i] = Some((sample, cos));
+                    live |= 1 << i;
+                }
+            }
             if live == 0 {
                 continue;
             }
             self.count(live);
-            let shadows = std::array::from_fn(|i| prepared[i].map_or(rays[i], |p| p.0));
             let blocked = small.occluded4(self.world, &shadows, live);
-            for i in 0..4 {
-                if let (Some((_, sample, cos)), Some(s), false) =
-                    (&prepared[i], &surfaces[i], blocked[i])
-                {
+            for (i, surface) in surfaces.iter().enumerate() {
+                if let (Some((sample, cos)), Some(s), false) = (&samples[i], surface, blocked[i]) {
                     sum[i] += lit_by(s.m, s.ns, s.v, sample, *cos);
                 }
             }
