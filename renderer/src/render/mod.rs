@@ -15,7 +15,7 @@ use crate::sampling::{FrameSampler, SamplingConfig};
 use crate::scene::Scene;
 use crate::shading::Tracer;
 use anyhow::Result;
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
 /// Counts from one frame.
@@ -146,12 +146,17 @@ fn render_span(
         };
         match small {
             Some(small) => {
+                let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::ZERO, 0.0); 4];
                 for first in (0..spp).step_by(4) {
-                    let rays: [_; 4] = std::array::from_fn(|k| {
-                        (first + k < spp).then(|| camera_ray(first + k)).flatten()
-                    });
-                    for l in radiance4(tracer, small, &rays).into_iter().flatten() {
-                        add(l);
+                    let live = camera_rays(&mut rays, first..spp.min(first + 4), &camera_ray);
+                    if live == 0 {
+                        continue;
+                    }
+                    let l = tracer.radiance4(small, &rays, live);
+                    for (k, l) in l.into_iter().enumerate() {
+                        if live & (1 << k) != 0 {
+                            add(l);
+                        }
                     }
                 }
             }
@@ -166,16 +171,30 @@ fn render_span(
     ((span.len() * spp) as u64, non_finite)
 }
 
-/// The radiance of each present ray of four, traced together.
-fn radiance4(tracer: &Tracer, small: &SmallWorld, rays: &[Option<Ray>; 4]) -> [Option<Vec3>; 4] {
-    let Some(any) = rays.iter().flatten().next() else {
-        return [None; 4];
-    };
-    let live = (0..4)
-        .filter(|&k| rays[k].is_some())
-        .fold(0, |m, k| m | (1 << k));
-    let l = tracer.radiance4(small, &rays.map(|r| r.unwrap_or(*any)), live);
-    std::array::from_fn(|k| rays[k].map(|_| l[k]))
+/// The camera rays of `samples` (at most four) into the lanes of `rays`; returns the lanes
+/// that have one (a sample whose camera has no frame has none). Lanes without a ray repeat one
+/// that has (their results are not used).
+fn camera_rays(
+    rays: &mut [Ray; 4],
+    samples: std::ops::Range<usize>,
+    camera_ray: &impl Fn(usize) -> Option<Ray>,
+) -> u32 {
+    let mut live = 0u32;
+    for (k, i) in samples.enumerate() {
+        if let Some(r) = camera_ray(i) {
+            rays[k] = r;
+            live |= 1 << k;
+        }
+    }
+    if live != 0 {
+        let any = rays[live.trailing_zeros() as usize];
+        for (k, r) in rays.iter_mut().enumerate() {
+            if live & (1 << k) == 0 {
+                *r = any;
+            }
+        }
+    }
+    live
 }
 
 #[cfg(test)]

@@ -20,7 +20,7 @@ use glam::{Vec3, Vec3A};
 
 /// A lane's hit, ready to shade.
 struct Surface<'a> {
-    hit: SurfaceHit,
+    hit: &'a SurfaceHit,
     m: &'a Material,
     ng: Vec3A,
     ns: Vec3A,
@@ -34,9 +34,9 @@ impl Tracer<'_> {
         self.count(live);
         let hits = small.intersect4(self.world, rays, live);
         let surfaces: [Option<Surface>; 4] = std::array::from_fn(|i| {
-            let hit = hits[i]?;
+            let hit = hits[i].as_ref()?;
             let v = -rays[i].dir;
-            let (ng, ns) = facing_normals(&hit, v);
+            let (ng, ns) = facing_normals(hit, v);
             let m = &self.scene.materials[hit.material as usize];
             Some(Surface { hit, m, ng, ns, v })
         });
@@ -48,7 +48,7 @@ impl Tracer<'_> {
                     l += direct[i];
                 }
                 if 0 < self.max_depth && s.m.reflective() {
-                    l += self.reflection(&rays[i], &s.hit, s.m, s.ng, s.ns, s.v, 0);
+                    l += self.reflection(&rays[i], s.hit, s.m, s.ng, s.ns, s.v, 0);
                 }
                 l
             }
@@ -76,7 +76,7 @@ impl Tracer<'_> {
                 let Some(s) = surface.as_ref().filter(|s| s.m.lit()) else {
                     continue;
                 };
-                if let Some((shadow, sample, cos)) = shadow_ray(&rays[i], &s.hit, s.ng, s.ns, light)
+                if let Some((shadow, sample, cos)) = shadow_ray(&rays[i], s.hit, s.ng, s.ns, light)
                 {
                     shadows[i] = shadow;
                     samples[i] = Some((sample, cos));
