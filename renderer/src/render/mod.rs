@@ -8,9 +8,11 @@ pub mod sequence;
 
 use crate::accel::World;
 use crate::accel::packet::SmallWorld;
+use crate::camera::{Camera, Projection};
 use crate::film::Film;
 use crate::geometry::Ray;
 use crate::progress::Progress;
+use crate::sampling::PixelSampler;
 use crate::sampling::{FrameSampler, SamplingConfig};
 use crate::scene::Scene;
 use crate::shading::Tracer;
@@ -120,81 +122,130 @@ fn render_span(
     span: &mut [Vec3],
 ) -> (u64, u64) {
     let scene = tracer.scene;
-    let camera = &scene.camera;
-    let projection = camera.projection(scene.settings.width, scene.settings.height);
+    let camera = CameraRays {
+        camera: &scene.camera,
+        projection: scene
+            .camera
+            .projection(scene.settings.width, scene.settings.height),
+        shutter,
+    };
+    let spp = sampler.spp();
+    let non_finite = match small {
+        Some(small) => packet_span(tracer, small, sampler, &camera, x0, y, span),
+        None => scalar_span(tracer, sampler, &camera, x0, y, span),
+    };
+    ((span.len() * spp) as u64, non_finite)
+}
+
+/// Camera rays of one frame.
+struct CameraRays<'a> {
+    camera: &'a Camera,
+    projection: Projection,
+    shutter: (f32, f32),
+}
+
+impl CameraRays<'_> {
+    /// The ray of sample `i` of pixel `(x, y)`.
+    #[inline]
+    fn ray(&self, pixel: &PixelSampler, x: u32, y: u32, i: usize) -> Option<Ray> {
+        let s = pixel.sample(i);
+        let time = self.shutter.0 + s.t * (self.shutter.1 - self.shutter.0);
+        // A moving camera can lose its frame only between validated frame boundaries
+        // (look-at passing through the eye); such a sample is black, never NaN.
+        let view = self.camera.frame_at(time)?;
+        let (fx, fy) = (x as f32 + 0.5 + s.dx, y as f32 + 0.5 + s.dy);
+        let dir = self.projection.direction(&view, fx, fy);
+        Some(Ray::new(view.eye, dir, time))
+    }
+}
+
+/// One ray at a time: each pixel's samples summed in order 0..spp; returns the number of
+/// samples that were not finite.
+fn scalar_span(
+    tracer: &Tracer,
+    sampler: &FrameSampler,
+    camera: &CameraRays,
+    x0: u32,
+    y: u32,
+    span: &mut [Vec3],
+) -> u64 {
     let spp = sampler.spp();
     let mut non_finite = 0;
     for (x, pixel) in (x0..).zip(span.iter_mut()) {
         let pixel_sampler = sampler.pixel(x, y);
-        let camera_ray = |i: usize| {
-            let s = pixel_sampler.sample(i);
-            let time = shutter.0 + s.t * (shutter.1 - shutter.0);
-            // A moving camera can lose its frame only between validated frame boundaries
-            // (look-at passing through the eye); such a sample is black, never NaN.
-            let view = camera.frame_at(time)?;
-            let dir = projection.direction(&view, x as f32 + 0.5 + s.dx, y as f32 + 0.5 + s.dy);
-            Some(Ray::new(view.eye, dir, time))
-        };
-        // Samples are summed in order 0..spp whichever way they are traced.
         let mut sum = Vec3::ZERO;
-        let mut add = |l: Vec3| {
+        for ray in (0..spp).filter_map(|i| camera.ray(&pixel_sampler, x, y, i)) {
+            let l = tracer.radiance(&ray, 0);
             if l.is_finite() {
                 sum += l;
             } else {
                 non_finite += 1;
             }
-        };
-        match small {
-            Some(small) => {
-                let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::ZERO, 0.0); 4];
-                for first in (0..spp).step_by(4) {
-                    let live = camera_rays(&mut rays, first..spp.min(first + 4), &camera_ray);
-                    if live == 0 {
-                        continue;
-                    }
-                    let l = tracer.radiance4(small, &rays, live);
-                    for (k, l) in l.into_iter().enumerate() {
-                        if live & (1 << k) != 0 {
-                            add(l);
-                        }
-                    }
-                }
-            }
-            None => {
-                for l in (0..spp).filter_map(camera_ray) {
-                    add(tracer.radiance(&l, 0));
-                }
-            }
         }
         *pixel = sum / spp as f32;
     }
-    ((span.len() * spp) as u64, non_finite)
+    non_finite
 }
 
-/// The camera rays of `samples` (at most four) into the lanes of `rays`; returns the lanes
-/// that have one (a sample whose camera has no frame has none). Lanes without a ray repeat one
-/// that has (their results are not used).
-fn camera_rays(
-    rays: &mut [Ray; 4],
-    samples: std::ops::Range<usize>,
-    camera_ray: &impl Fn(usize) -> Option<Ray>,
-) -> u32 {
-    let mut live = 0u32;
-    for (k, i) in samples.enumerate() {
-        if let Some(r) = camera_ray(i) {
-            rays[k] = r;
-            live |= 1 << k;
+/// Four rays at a time: the span's samples, pixel by pixel and each pixel's in order 0..spp,
+/// taken four at a time (so spp = 1 fills the lanes too, from neighbouring pixels); each lane's
+/// radiance is added to its own pixel, so every pixel's sum adds the same terms in the same
+/// order as [`scalar_span`]. Returns the number of samples that were not finite.
+fn packet_span(
+    tracer: &Tracer,
+    small: &SmallWorld,
+    sampler: &FrameSampler,
+    camera: &CameraRays,
+    x0: u32,
+    y: u32,
+    span: &mut [Vec3],
+) -> u64 {
+    let spp = sampler.spp();
+    let n = span.len() * spp;
+    span.fill(Vec3::ZERO);
+    let mut non_finite = 0;
+    let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::ZERO, 0.0); 4];
+    let mut owner = [0usize; 4];
+    let mut pixel = (0, sampler.pixel(x0, y));
+    for first in (0..n).step_by(4) {
+        let mut live = 0u32;
+        for (k, j) in (first..n.min(first + 4)).enumerate() {
+            let p = j / spp;
+            if p != pixel.0 {
+                pixel = (p, sampler.pixel(x0 + p as u32, y));
+            }
+            if let Some(r) = camera.ray(&pixel.1, x0 + p as u32, y, j % spp) {
+                (rays[k], owner[k]) = (r, p);
+                live |= 1 << k;
+            }
         }
-    }
-    if live != 0 {
-        let any = rays[live.trailing_zeros() as usize];
-        for (k, r) in rays.iter_mut().enumerate() {
-            if live & (1 << k) == 0 {
-                *r = any;
+        if live == 0 {
+            continue;
+        }
+        fill_dead_lanes(&mut rays, live);
+        let l = tracer.radiance4(small, &rays, live);
+        for k in (0..4).filter(|k| live & (1 << k) != 0) {
+            if l[k].is_finite() {
+                span[owner[k]] += l[k];
+            } else {
+                non_finite += 1;
             }
         }
     }
-    live
+    for p in span.iter_mut() {
+        *p /= spp as f32;
+    }
+    non_finite
+}
+
+/// Lanes outside `live` (not empty) repeat a live lane's ray (their results are not used).
+fn fill_dead_lanes(rays: &mut [Ray; 4], live: u32) {
+    let any = rays[live.trailing_zeros() as usize];
+    for (k, r) in rays.iter_mut().enumerate() {
+        if live & (1 << k) == 0 {
+            *r = any;
+        }
+    }
 }
 
 #[cfg(test)]
