@@ -505,7 +505,7 @@ mod tests {
 
     /// Spheres and planes (infinite and rectangles), some touching exactly, some copies of
     /// another (equal t: ties), some moving, some turned.
-    fn random_world(d: &mut Draw) -> World {
+    fn random_world(d: &mut Draw, offset: Vec3) -> World {
         let n = 1 + d.pick(MAX_INSTANCES as u64) as usize;
         let mut instances = Vec::new();
         for m in 0..n as u32 {
@@ -554,12 +554,15 @@ mod tests {
             instances.push(inst);
         }
         instances.truncate(MAX_INSTANCES);
+        for i in &mut instances {
+            i.motion.layers[0].location += offset;
+        }
         World::build(instances, (0.0, 1.0))
     }
 
     /// Rays from outside and inside, aimed at centres and grazing silhouettes, with limits,
     /// out-of-shutter times and degenerate directions.
-    fn random_ray(d: &mut Draw, world: &World) -> Ray {
+    fn random_ray(d: &mut Draw, world: &World, offset: Vec3) -> Ray {
         let target = {
             let i = d.pick(world.instances().len() as u64) as usize;
             let m = &world.instances()[i].motion;
@@ -567,8 +570,8 @@ mod tests {
         };
         let origin = match d.pick(4) {
             0 => target + d.dir() * d.range(0.0, 0.9),
-            1 => Vec3A::new(d.range(-3.0, 3.0), 0.0, d.range(-3.0, 3.0)),
-            _ => Vec3A::from(d.vec(12.0)),
+            1 => Vec3A::new(d.range(-3.0, 3.0), 0.0, d.range(-3.0, 3.0)) + Vec3A::from(offset),
+            _ => Vec3A::from(d.vec(12.0) + offset),
         };
         let mut dir = match d.pick(3) {
             0 => d.dir(),
@@ -620,10 +623,16 @@ mod tests {
         let (mut rays_traced, mut hits, mut blocked) = (0, 0, 0);
         for w in 0..300u64 {
             let mut d = Draw(HashRng::new(0x9ac7e7, &[w]));
-            let world = random_world(&mut d);
+            // Every fourth world far from the origin (coordinates in the thousands).
+            let offset = if w % 4 == 3 {
+                Vec3::new(3000.0, -1500.0, 2500.0)
+            } else {
+                Vec3::ZERO
+            };
+            let world = random_world(&mut d, offset);
             let small = world.small().expect("spheres and planes only");
             for g in 0..40u64 {
-                let rays: [Ray; 4] = std::array::from_fn(|_| random_ray(&mut d, &world));
+                let rays: [Ray; 4] = std::array::from_fn(|_| random_ray(&mut d, &world, offset));
                 let live = (d.pick(16) as u32) | if g % 2 == 0 { 15 } else { 0 };
                 let got = small.intersect4(&world, &rays, live);
                 let occ = small.occluded4(&world, &rays, live);
