@@ -12,6 +12,7 @@
 //!
 //! [`TriangleMesh::new`]: crate::geometry::TriangleMesh::new
 
+use super::packet::SmallWorld;
 use super::pose::{Pose, PoseOverTime};
 use super::swept::swept_bounds;
 use super::{Instance, SurfaceHit};
@@ -33,6 +34,8 @@ pub struct World {
     /// Instances without finite bounds (infinite planes), tested by every ray.
     unbounded: Vec<u32>,
     shutter: (f32, f32),
+    /// The four-lane form, for a world of a few spheres and planes ([`SmallWorld`]).
+    small: Option<SmallWorld>,
 }
 
 impl std::fmt::Debug for World {
@@ -83,6 +86,7 @@ impl World {
                 &mut Duration::default(),
             ))
         };
+        let small = SmallWorld::new(&instances, &poses);
         Self {
             instances,
             poses,
@@ -90,7 +94,13 @@ impl World {
             bounded,
             unbounded,
             shutter,
+            small,
         }
+    }
+
+    /// The four-lane form, if this world is small and analytic enough to have one.
+    pub fn small(&self) -> Option<&SmallWorld> {
+        self.small.as_ref()
     }
 
     pub fn instances(&self) -> &[Instance] {
@@ -100,6 +110,11 @@ impl World {
     /// Whether no instance moves (every pose was computed once at build).
     pub fn is_static(&self) -> bool {
         self.poses.iter().all(PoseOverTime::is_fixed)
+    }
+
+    /// The shutter interval the top level was built for.
+    pub(super) fn shutter(&self) -> (f32, f32) {
+        self.shutter
     }
 
     fn in_shutter(&self, ray: &Ray) -> bool {

@@ -13,8 +13,11 @@
 //! with A the ambient light, E the light's irradiance, V its visibility, r_l the mirror image of
 //! the light direction l, and F the material's Fresnel curve.
 
+mod packet;
+
 use crate::accel::{SurfaceHit, World};
 use crate::geometry::Ray;
+use crate::light::{Light, LightSample};
 use crate::material::Material;
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
@@ -92,38 +95,14 @@ impl<'a> Tracer<'a> {
     ) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for light in &self.scene.lights {
-            let Some(s) = light.sample(hit.point) else {
+            let Some((shadow, s, cos)) = shadow_ray(ray, hit, ng, ns, light) else {
                 continue;
-            };
-            let cos = ns.dot(s.towards);
-            // A light below the shading or the geometric surface cannot light it.
-            if cos <= 0.0 || ng.dot(s.towards) <= 0.0 {
-                continue;
-            }
-            let origin = hit.spawn_point(s.towards);
-            let shadow = Ray {
-                origin,
-                dir: s.towards,
-                time: ray.time,
-                t_min: 0.0,
-                t_max: if s.distance.is_finite() {
-                    (hit.point - origin).dot(s.towards) + s.distance
-                } else {
-                    f32::INFINITY
-                },
             };
             self.rays.set(self.rays.get() + 1);
             if self.world.occluded(&shadow) {
                 continue;
             }
-            // powf is the dearest step of a diffuse hit: skip it where it adds 0 (same bits:
-            // the lobe is finite, so `0 * lobe` is +0 and `x + 0 = x`).
-            let specular = if m.specular == Vec3::ZERO {
-                Vec3::ZERO
-            } else {
-                m.specular * phong(reflect(-s.towards, ns).dot(v), m.phong_exponent)
-            };
-            sum += s.irradiance * (m.diffuse * cos + specular);
+            sum += lit_by(m, ns, v, &s, cos);
         }
         sum
     }
@@ -152,6 +131,50 @@ impl<'a> Tracer<'a> {
         let bounce = Ray::new(hit.spawn_point(dir), dir, ray.time);
         weight * self.radiance(&bounce, depth + 1)
     }
+}
+
+/// The shadow ray towards `light` from `hit`, the light's sample and `ns · l`; `None` when the
+/// light cannot light the point (it sits on a point light, or lies below the shading or the
+/// geometric surface).
+#[inline]
+fn shadow_ray(
+    ray: &Ray,
+    hit: &SurfaceHit,
+    ng: Vec3A,
+    ns: Vec3A,
+    light: &Light,
+) -> Option<(Ray, LightSample, f32)> {
+    let s = light.sample(hit.point)?;
+    let cos = ns.dot(s.towards);
+    if cos <= 0.0 || ng.dot(s.towards) <= 0.0 {
+        return None;
+    }
+    let origin = hit.spawn_point(s.towards);
+    let shadow = Ray {
+        origin,
+        dir: s.towards,
+        time: ray.time,
+        t_min: 0.0,
+        t_max: if s.distance.is_finite() {
+            (hit.point - origin).dot(s.towards) + s.distance
+        } else {
+            f32::INFINITY
+        },
+    };
+    Some((shadow, s, cos))
+}
+
+/// The Lambert and Phong terms of an unblocked light sample `s` with `cos = ns · l`.
+#[inline]
+fn lit_by(m: &Material, ns: Vec3A, v: Vec3A, s: &LightSample, cos: f32) -> Vec3 {
+    // powf is the dearest step of a diffuse hit: skip it where it adds 0 (same bits:
+    // the lobe is finite, so `0 * lobe` is +0 and `x + 0 = x`).
+    let specular = if m.specular == Vec3::ZERO {
+        Vec3::ZERO
+    } else {
+        m.specular * phong(reflect(-s.towards, ns).dot(v), m.phong_exponent)
+    };
+    s.irradiance * (m.diffuse * cos + specular)
 }
 
 /// Geometric and shading normals turned towards the viewer `v` (surfaces are two-sided); a

@@ -1,0 +1,684 @@
+//! Four rays at once against a small analytic world: the "small world" packet form of a
+//! [`World`] made only of spheres and planes.
+//!
+//! Why: on a scene of a sphere over a plane, one camera sample is a chain of dependent square
+//! roots and divisions (top-level traversal, sphere roots, normals, the shadow ray), so a
+//! single ray keeps the core waiting on latency. Four independent rays in the four lanes of an
+//! `f32x4` fill those waits: every instance is tested for all four lanes at once, brute force
+//! (with a handful of instances a top-level BVH costs more than it saves).
+//!
+//! Bit identity with [`World::intersect`] and [`World::occluded`] is the contract: every lane
+//! does the scalar code's f32 operations in the scalar code's order (glam's SSE2 `dot` is
+//! `(x x' + y y') + z z'`, `Mat3A * v` is `(c0 v.x + c1 v.y) + c2 v.z`; Rust never fuses a
+//! multiply-add), so a lane's parameter `t` is the scalar one to the bit. The winner's normals
+//! are worked out lane by lane the same way. What brute force
+//! cannot promise, the lane hands back to the scalar path:
+//! - two instances at exactly the same nearest `t` (the scalar path keeps the first in its
+//!   top-level BVH order, which brute force does not know);
+//! - a ray the scalar path treats specially: non-finite or zero direction, non-finite origin
+//!   (bounded instances are skipped there), a time outside the shutter, `t_min != 0`, a NaN
+//!   `t_max`.
+//!
+//! Otherwise the top level cannot change the answer: its boxes are the instances' swept bounds,
+//! padded, so it only culls instances that cannot hold a nearer hit, and each shape's nearest
+//! root below the running `t_max` is its nearest root below the ray's `t_max` whenever it can
+//! win. Spinning instances are not packet-eligible (their per-ray pose is a chain of
+//! rotations); fixed and translating ones, turned or not, are computed exactly.
+
+use super::World;
+use super::pose::{Pose, PoseOverTime};
+use super::{Instance, SurfaceHit};
+use crate::geometry::{Ray, Shape};
+use glam::{Mat3A, Vec3A};
+use wide::f32x4;
+
+/// At most this many instances: brute force tests each for every ray, and past about this
+/// many the top-level BVH (which skips most of them) wins even against four lanes.
+pub const MAX_INSTANCES: usize = 16;
+
+/// The packet form of a world of at most [`MAX_INSTANCES`] spheres and planes.
+#[derive(Clone, Debug)]
+pub struct SmallWorld {
+    /// One per instance, in the world's instance order.
+    shapes: Vec<SmallShape>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct SmallShape {
+    kind: Kind,
+    pose: SmallPose,
+    material: u32,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    Sphere {
+        radius: f32,
+    },
+    /// `None`: infinite; else the rectangle's half extents in x and z.
+    Plane {
+        half_extent: Option<(f32, f32)>,
+    },
+}
+
+/// A fixed or translating pose: translation `at + velocity * t` (as [`PoseOverTime::at`]
+/// computes it; a fixed pose adds nothing, not even `0 * t`, which would turn `-0` into `+0`),
+/// and the object-from-world matrix unless the pose is unturned.
+#[derive(Clone, Copy, Debug)]
+struct SmallPose {
+    translation: Vec3A,
+    velocity: Option<Vec3A>,
+    matrix: Option<Mat3A>,
+    /// `matrix` transposed (normals go to world space through it).
+    transposed: Mat3A,
+}
+
+impl SmallPose {
+    fn new(pose: &PoseOverTime) -> Option<Self> {
+        let (p, velocity): (&Pose, _) = match pose {
+            PoseOverTime::Fixed(p) => (p, None),
+            PoseOverTime::Translating { at_zero, velocity } => (at_zero, Some(*velocity)),
+            PoseOverTime::Spinning(_) => return None,
+        };
+        Some(Self {
+            translation: p.translation,
+            velocity,
+            matrix: (!p.unturned).then_some(p.object_from_world),
+            transposed: p.object_from_world.transpose(),
+        })
+    }
+
+    /// The four rays in object space: `(origin, dir)` per axis.
+    #[inline(always)]
+    fn ray_to_object(&self, ray: &Ray4) -> ([f32x4; 3], [f32x4; 3]) {
+        let p = self.translation.to_array();
+        let tr: [f32x4; 3] = match self.velocity {
+            None => p.map(f32x4::splat),
+            Some(v) => {
+                let v = v.to_array();
+                std::array::from_fn(|k| f32x4::splat(p[k]) + f32x4::splat(v[k]) * ray.time)
+            }
+        };
+        let o = std::array::from_fn(|k| ray.origin[k] - tr[k]);
+        match &self.matrix {
+            None => (o, ray.dir),
+            Some(m) => (mul(m, o), mul(m, ray.dir)),
+        }
+    }
+}
+
+/// `m * v` lane by lane in glam's order: `(x_axis v.x + y_axis v.y) + z_axis v.z`.
+#[inline(always)]
+fn mul(m: &Mat3A, v: [f32x4; 3]) -> [f32x4; 3] {
+    let (cx, cy, cz) = (
+        m.x_axis.to_array(),
+        m.y_axis.to_array(),
+        m.z_axis.to_array(),
+    );
+    std::array::from_fn(|k| {
+        f32x4::splat(cx[k]) * v[0] + f32x4::splat(cy[k]) * v[1] + f32x4::splat(cz[k]) * v[2]
+    })
+}
+
+/// glam's SSE2 `Vec3A::dot`, lane by lane.
+#[inline(always)]
+fn dot(a: &[f32x4; 3], b: &[f32x4; 3]) -> f32x4 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `f32::min` / `f32::max` lane by lane where it matters: a NaN operand gives the other one.
+/// (Which zero two equal zeros give does not matter: a zero is never above `t_min = 0`.)
+#[inline(always)]
+fn min_max(a: f32x4, b: f32x4) -> (f32x4, f32x4) {
+    let a_nan = a.is_nan();
+    let min_is_b = b.simd_lt(a) | a_nan;
+    let max_is_b = a.simd_lt(b) | a_nan;
+    (min_is_b.bitselect(b, a), max_is_b.bitselect(b, a))
+}
+
+/// Four rays, lane `i` holding ray `i` (only origin, direction, time and `t_max`: the lanes
+/// traced here all have `t_min = 0`).
+#[derive(Clone, Copy, Debug)]
+pub struct Ray4 {
+    origin: [f32x4; 3],
+    dir: [f32x4; 3],
+    time: f32x4,
+    t_max: f32x4,
+}
+
+impl Ray4 {
+    /// The lanes of `simple` (not empty); the others repeat one of them, so that no lane
+    /// computes with a NaN or a zero direction (their results are dropped anyway).
+    fn of(rays: &[Ray; 4], simple: u32) -> Self {
+        let first = &rays[simple.trailing_zeros() as usize];
+        Self::new(&std::array::from_fn(|i| {
+            if simple & (1 << i) != 0 {
+                rays[i]
+            } else {
+                *first
+            }
+        }))
+    }
+
+    pub fn new(rays: &[Ray; 4]) -> Self {
+        let lanes = |v: [Vec3A; 4]| -> [f32x4; 3] {
+            let v = v.map(|v| v.to_array());
+            std::array::from_fn(|k| f32x4::new([v[0][k], v[1][k], v[2][k], v[3][k]]))
+        };
+        Self {
+            origin: lanes(rays.each_ref().map(|r| r.origin)),
+            dir: lanes(rays.each_ref().map(|r| r.dir)),
+            time: f32x4::new(rays.each_ref().map(|r| r.time)),
+            t_max: f32x4::new(rays.each_ref().map(|r| r.t_max)),
+        }
+    }
+}
+
+/// The nearest sphere root in `(0, t_max)` per lane ([`crate::geometry::Sphere::closest`]'s
+/// arithmetic), `+inf` where there is none.
+#[inline(always)]
+fn sphere(radius: f32, o: &[f32x4; 3], d: &[f32x4; 3], t_max: f32x4) -> f32x4 {
+    let r = f32x4::splat(radius);
+    let a = dot(d, d);
+    let half_b = dot(o, d);
+    let c = dot(o, o) - f32x4::splat(radius * radius);
+    let k = half_b / a;
+    let foot: [f32x4; 3] = std::array::from_fn(|i| o[i] - d[i] * k);
+    let f = dot(&foot, &foot).sqrt();
+    let disc = a * ((r - f) * (r + f));
+    // `signum`: 1 with half_b's sign (a NaN half_b makes q NaN either way).
+    let ok = a.simd_ne(f32x4::ZERO) & a.is_finite() & disc.simd_ge(f32x4::ZERO);
+    if !ok.any() {
+        // Every lane misses: skip the roots' square root and two divisions.
+        return f32x4::splat(f32::INFINITY);
+    }
+    let sign = (half_b & f32x4::splat(-0.0)) | f32x4::ONE;
+    let q = -(half_b + sign * disc.sqrt());
+    // q == 0 gives the roots (0, 0) in the scalar code: never above t_min = 0.
+    let ok = ok & q.simd_ne(f32x4::ZERO);
+    let (t0, t1) = min_max(q / a, c / q);
+    let in_range = |t: f32x4| t.simd_gt(f32x4::ZERO) & t.simd_lt(t_max);
+    let (in0, in1) = (in_range(t0), in_range(t1));
+    let t = in0.bitselect(t0, in1.bitselect(t1, f32x4::splat(f32::INFINITY)));
+    ok.bitselect(t, f32x4::splat(f32::INFINITY))
+}
+
+/// The plane y = 0 per lane ([`crate::geometry::Plane::closest`]'s arithmetic), `+inf` where
+/// it is missed.
+#[inline(always)]
+fn plane(half: Option<(f32, f32)>, o: &[f32x4; 3], d: &[f32x4; 3], t_max: f32x4) -> f32x4 {
+    let t = -o[1] / d[1];
+    // A zero d.y gives an infinite or NaN t, which fails the range test anyway.
+    let mut ok = d[1].simd_ne(f32x4::ZERO) & t.simd_gt(f32x4::ZERO) & t.simd_lt(t_max);
+    if let Some((hx, hz)) = half {
+        let px = o[0] + d[0] * t;
+        let pz = o[2] + d[2] * t;
+        ok = ok & px.abs().simd_le(f32x4::splat(hx)) & pz.abs().simd_le(f32x4::splat(hz));
+    }
+    ok.bitselect(t, f32x4::splat(f32::INFINITY))
+}
+
+/// `o + d t` lane by lane ([`Ray::at`]).
+#[inline(always)]
+fn point_at(o: &[f32x4; 3], d: &[f32x4; 3], t: f32x4) -> [f32x4; 3] {
+    std::array::from_fn(|k| o[k] + d[k] * t)
+}
+
+/// The four lanes as vectors.
+#[inline(always)]
+fn lanes_of(v: &[f32x4; 3]) -> [Vec3A; 4] {
+    let [x, y, z] = v.map(|c| c.to_array());
+    std::array::from_fn(|i| Vec3A::new(x[i], y[i], z[i]))
+}
+
+/// glam's `normalize_or_zero` lane by lane: `v * (1 / sqrt(v.v))` where that factor is finite
+/// and positive, else zero.
+#[inline(always)]
+fn normalize_or_zero(v: [f32x4; 3]) -> [f32x4; 3] {
+    let rcp = f32x4::ONE / dot(&v, &v).sqrt();
+    let ok = rcp.is_finite() & rcp.simd_gt(f32x4::ZERO);
+    v.map(|c| ok.bitselect(c * rcp, f32x4::ZERO))
+}
+
+impl SmallShape {
+    /// The unit world-space normal at parameter `t` of each lane's ray (geometric and shading
+    /// normal alike for spheres and planes): the object-space normal ([`Shape::surface`]),
+    /// through the inverse transpose, normalised, as [`World::intersect`] does it.
+    #[inline(always)]
+    fn world_normal(&self, ray: &Ray4, t: f32x4) -> [f32x4; 3] {
+        let local = match self.kind {
+            Kind::Sphere { .. } => {
+                let (o, d) = self.pose.ray_to_object(ray);
+                point_at(&o, &d, t)
+            }
+            Kind::Plane { .. } => [f32x4::ZERO, f32x4::ONE, f32x4::ZERO],
+        };
+        let world = match self.pose.matrix {
+            None => local,
+            Some(_) => mul(&self.pose.transposed, local),
+        };
+        normalize_or_zero(world)
+    }
+
+    /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none.
+    #[inline(always)]
+    fn closest(&self, ray: &Ray4) -> f32x4 {
+        let (o, d) = self.pose.ray_to_object(ray);
+        match self.kind {
+            Kind::Sphere { radius } => sphere(radius, &o, &d, ray.t_max),
+            Kind::Plane { half_extent } => plane(half_extent, &o, &d, ray.t_max),
+        }
+    }
+}
+
+impl SmallWorld {
+    /// The packet form of a world with these instances and poses, or `None` if it has a mesh,
+    /// a spinning instance, or more than [`MAX_INSTANCES`] instances.
+    pub fn new(instances: &[Instance], poses: &[PoseOverTime]) -> Option<Self> {
+        if instances.len() > MAX_INSTANCES {
+            return None;
+        }
+        let shapes = instances
+            .iter()
+            .zip(poses)
+            .map(|(instance, pose)| {
+                let kind = match &instance.shape {
+                    Shape::Sphere(s) => Kind::Sphere { radius: s.radius },
+                    Shape::Plane(p) => Kind::Plane {
+                        half_extent: p.half_extent.map(|h| (h.x, h.y)),
+                    },
+                    Shape::Mesh(_) => return None,
+                };
+                Some(SmallShape {
+                    kind,
+                    pose: SmallPose::new(pose)?,
+                    material: instance.material,
+                })
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(Self { shapes })
+    }
+
+    /// The lanes (bit `i` for lane `i`) of `live` this form answers itself; the others go to
+    /// the scalar path.
+    #[inline]
+    fn simple_lanes(world: &World, rays: &[Ray; 4], live: u32) -> u32 {
+        let lanes = (0..4).fold(0, |m, i| m | (u32::from(simple(world, &rays[i])) << i));
+        lanes & live
+    }
+
+    /// [`World::intersect`] for each live lane (bit `i` of `live`); `None` for the others.
+    pub fn intersect4(&self, world: &World, rays: &[Ray; 4], live: u32) -> [Option<SurfaceHit>; 4] {
+        let simple = Self::simple_lanes(world, rays, live);
+        let mut out = [None; 4];
+        let mut scalar = live & !simple;
+        if simple != 0 {
+            let ray4 = Ray4::of(rays, simple);
+            let mut nearest = Nearest::new();
+            for (i, shape) in self.shapes.iter().enumerate() {
+                nearest.add(shape.closest(&ray4), i as u32);
+            }
+            scalar |= self.surfaces(&ray4, &nearest, simple, &mut out);
+        }
+        for (i, slot) in out.iter_mut().enumerate() {
+            if scalar & (1 << i) != 0 {
+                *slot = world.intersect(&rays[i]);
+            }
+        }
+        out
+    }
+
+    /// The world-space hits of the lanes of `simple` that hit one instance first
+    /// ([`World::intersect`]'s last step), one instance at a time for the lanes it won;
+    /// returns the lanes with a tie, left to the scalar path.
+    fn surfaces(
+        &self,
+        ray: &Ray4,
+        nearest: &Nearest,
+        simple: u32,
+        out: &mut [Option<SurfaceHit>; 4],
+    ) -> u32 {
+        let tie = simple & nearest.tie.to_bitmask();
+        let hit = nearest.t.simd_lt(f32x4::splat(f32::INFINITY)).to_bitmask();
+        let mut pending = simple & !tie & hit;
+        if pending == 0 {
+            return tie;
+        }
+        let t = nearest.t.to_array();
+        let point = lanes_of(&point_at(&ray.origin, &ray.dir, nearest.t));
+        while pending != 0 {
+            let instance = nearest.instance[pending.trailing_zeros() as usize];
+            let shape = &self.shapes[instance as usize];
+            let normal = lanes_of(&shape.world_normal(ray, nearest.t));
+            for (i, slot) in out.iter_mut().enumerate() {
+                if pending & (1 << i) != 0 && nearest.instance[i] == instance {
+                    *slot = Some(SurfaceHit {
+                        t: t[i],
+                        point: point[i],
+                        geometric_normal: normal[i],
+                        shading_normal: normal[i],
+                        instance,
+                        material: shape.material,
+                    });
+                    pending &= !(1 << i);
+                }
+            }
+        }
+        tie
+    }
+
+    /// [`World::occluded`] for each live lane (bit `i` of `live`); `false` for the others.
+    pub fn occluded4(&self, world: &World, rays: &[Ray; 4], live: u32) -> [bool; 4] {
+        let simple = Self::simple_lanes(world, rays, live);
+        let mut blocked = 0;
+        if simple != 0 {
+            let ray4 = Ray4::of(rays, simple);
+            for shape in &self.shapes {
+                blocked |= shape
+                    .closest(&ray4)
+                    .simd_lt(f32x4::splat(f32::INFINITY))
+                    .to_bitmask();
+                if blocked & simple == simple {
+                    break;
+                }
+            }
+        }
+        std::array::from_fn(|i| {
+            if live & (1 << i) == 0 {
+                false
+            } else if simple & (1 << i) == 0 {
+                world.occluded(&rays[i])
+            } else {
+                blocked & (1 << i) != 0
+            }
+        })
+    }
+}
+
+/// A ray this form traces exactly as the scalar path does (see the module notes).
+/// (Every test is evaluated, without branches: they are cheap and almost always pass.)
+#[inline(always)]
+fn simple(world: &World, ray: &Ray) -> bool {
+    ray.origin.is_finite()
+        & ray.dir.is_finite()
+        & (ray.dir != Vec3A::ZERO)
+        & (ray.time >= world.shutter().0)
+        & (ray.time <= world.shutter().1)
+        & (ray.t_min == 0.0)
+        & !ray.t_max.is_nan()
+}
+
+/// The running nearest hit per lane: its `t` (`+inf` for none), its instance, and whether
+/// another instance gave exactly the same `t`.
+struct Nearest {
+    t: f32x4,
+    tie: f32x4,
+    instance: [u32; 4],
+}
+
+impl Nearest {
+    fn new() -> Self {
+        Self {
+            t: f32x4::splat(f32::INFINITY),
+            tie: f32x4::ZERO,
+            instance: [0; 4],
+        }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, t: f32x4, instance: u32) {
+        let closer = t.simd_lt(self.t);
+        let same = t.simd_eq(self.t) & t.simd_lt(f32x4::splat(f32::INFINITY));
+        self.tie = closer.bitselect(f32x4::ZERO, self.tie) | same;
+        self.t = closer.bitselect(t, self.t);
+        let mask = closer.to_bitmask();
+        if mask != 0 {
+            for (i, slot) in self.instance.iter_mut().enumerate() {
+                if mask & (1 << i) != 0 {
+                    *slot = instance;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::Instance;
+    use crate::geometry::{Plane, Sphere};
+    use crate::hash::{HashRng, unit_f32};
+    use crate::motion::{Motion, MotionLayer};
+    use glam::{Quat, Vec2, Vec3};
+    use rand::RngCore;
+
+    struct Draw(HashRng);
+
+    impl Draw {
+        fn unit(&mut self) -> f32 {
+            unit_f32(self.0.next_u64())
+        }
+        fn range(&mut self, lo: f32, hi: f32) -> f32 {
+            lo + (hi - lo) * self.unit()
+        }
+        fn pick(&mut self, n: u64) -> u64 {
+            self.0.next_u64() % n
+        }
+        fn vec(&mut self, s: f32) -> Vec3 {
+            Vec3::new(self.range(-s, s), self.range(-s, s), self.range(-s, s))
+        }
+        fn dir(&mut self) -> Vec3A {
+            let d = Vec3A::from(self.vec(1.0));
+            if d.length() < 1e-3 {
+                Vec3A::X
+            } else {
+                d.normalize()
+            }
+        }
+    }
+
+    /// A layer at `location`, moving or not, turned and scaled or not.
+    fn layer(d: &mut Draw, location: Vec3) -> MotionLayer {
+        let mut l = MotionLayer {
+            location,
+            ..MotionLayer::default()
+        };
+        if d.pick(3) == 0 {
+            l.velocity = d.vec(4.0);
+        }
+        if d.pick(4) == 0 {
+            l.rotation = Quat::from_axis_angle(Vec3::from(d.dir()), d.range(0.0, 3.0));
+            l.scale = Vec3::new(d.range(0.5, 2.0), d.range(0.5, 2.0), d.range(0.5, 2.0));
+        }
+        l
+    }
+
+    fn instance(shape: Shape, layer: MotionLayer, material: u32) -> Instance {
+        Instance {
+            shape,
+            motion: Motion {
+                layers: vec![layer],
+            },
+            material,
+        }
+    }
+
+    /// Spheres and planes (infinite and rectangles), some touching exactly, some copies of
+    /// another (equal t: ties), some moving, some turned.
+    fn random_world(d: &mut Draw, offset: Vec3) -> World {
+        let n = 1 + d.pick(MAX_INSTANCES as u64) as usize;
+        let mut instances = Vec::new();
+        for m in 0..n as u32 {
+            let inst = match d.pick(6) {
+                0 | 1 => {
+                    let radius = [0.5, 1.0, 2.5, d.range(0.01, 3.0)][d.pick(4) as usize];
+                    let at = d.vec(5.0);
+                    let l = layer(d, at);
+                    instance(Shape::Sphere(Sphere { radius }), l, m)
+                }
+                2 => {
+                    // A sphere resting exactly on the plane y = 0 (and the plane).
+                    let radius = [1.0, 0.5, 2.0][d.pick(3) as usize];
+                    let (x, z) = (d.range(-3.0, 3.0), d.range(-3.0, 3.0));
+                    let at = MotionLayer {
+                        location: Vec3::new(x, radius, z),
+                        ..MotionLayer::default()
+                    };
+                    instances.push(instance(Shape::Sphere(Sphere { radius }), at, m));
+                    let floor = Plane { half_extent: None };
+                    instance(Shape::Plane(floor), MotionLayer::default(), m + 100)
+                }
+                3 => {
+                    let half_extent = match d.pick(3) {
+                        0 => None,
+                        _ => Some(Vec2::new(d.range(0.5, 20.0), d.range(0.5, 20.0))),
+                    };
+                    let at = d.vec(3.0);
+                    let l = layer(d, at);
+                    instance(Shape::Plane(Plane { half_extent }), l, m)
+                }
+                4 if !instances.is_empty() => {
+                    let twin = instances[d.pick(instances.len() as u64) as usize].clone();
+                    Instance {
+                        material: m,
+                        ..twin
+                    }
+                }
+                _ => {
+                    let p = Plane {
+                        half_extent: Some(Vec2::new(20.0, 20.0)),
+                    };
+                    instance(Shape::Plane(p), MotionLayer::default(), m)
+                }
+            };
+            instances.push(inst);
+        }
+        instances.truncate(MAX_INSTANCES);
+        for i in &mut instances {
+            i.motion.layers[0].location += offset;
+        }
+        World::build(instances, (0.0, 1.0))
+    }
+
+    /// Rays from outside and inside, aimed at centres and grazing silhouettes, with limits,
+    /// out-of-shutter times and degenerate directions.
+    fn random_ray(d: &mut Draw, world: &World, offset: Vec3) -> Ray {
+        let target = {
+            let i = d.pick(world.instances().len() as u64) as usize;
+            let m = &world.instances()[i].motion;
+            Vec3A::from(m.layers[0].location)
+        };
+        let origin = match d.pick(4) {
+            0 => target + d.dir() * d.range(0.0, 0.9),
+            1 => Vec3A::new(d.range(-3.0, 3.0), 0.0, d.range(-3.0, 3.0)) + Vec3A::from(offset),
+            _ => Vec3A::from(d.vec(12.0) + offset),
+        };
+        let mut dir = match d.pick(3) {
+            0 => d.dir(),
+            _ => (target + d.dir() * d.range(0.0, 2.6) - origin).normalize_or_zero(),
+        };
+        if d.pick(10) == 0 {
+            dir.y = 0.0;
+        }
+        let mut ray = Ray::new(origin, dir, d.range(-0.05, 1.05).clamp(0.0, 1.0));
+        match d.pick(40) {
+            0 => ray.dir = Vec3A::ZERO,
+            1 => ray.origin.x = f32::NAN,
+            2 => ray.dir.z = f32::INFINITY,
+            3 => ray.time = 1.5,
+            4 => ray.time = -0.25,
+            5 => ray.t_min = 0.5,
+            6 => ray.t_max = f32::NAN,
+            _ => {}
+        }
+        if d.pick(3) == 0 {
+            ray.t_max = d.range(0.0, 15.0);
+        }
+        ray
+    }
+
+    fn bits(h: &Option<SurfaceHit>) -> Option<[u32; 12]> {
+        h.map(|h| {
+            let v = |v: Vec3A| v.to_array().map(f32::to_bits);
+            let [p, g, s] = [v(h.point), v(h.geometric_normal), v(h.shading_normal)];
+            [
+                h.t.to_bits(),
+                p[0],
+                p[1],
+                p[2],
+                g[0],
+                g[1],
+                g[2],
+                s[0],
+                s[1],
+                s[2],
+                h.instance,
+                h.material,
+            ]
+        })
+    }
+
+    #[test]
+    fn four_lanes_match_the_scalar_world_bit_for_bit() {
+        let (mut rays_traced, mut hits, mut blocked) = (0, 0, 0);
+        for w in 0..300u64 {
+            let mut d = Draw(HashRng::new(0x9ac7e7, &[w]));
+            // Every fourth world far from the origin (coordinates in the thousands).
+            let offset = if w % 4 == 3 {
+                Vec3::new(3000.0, -1500.0, 2500.0)
+            } else {
+                Vec3::ZERO
+            };
+            let world = random_world(&mut d, offset);
+            let small = world.small().expect("spheres and planes only");
+            for g in 0..40u64 {
+                let rays: [Ray; 4] = std::array::from_fn(|_| random_ray(&mut d, &world, offset));
+                let live = (d.pick(16) as u32) | if g % 2 == 0 { 15 } else { 0 };
+                let got = small.intersect4(&world, &rays, live);
+                let occ = small.occluded4(&world, &rays, live);
+                for i in 0..4 {
+                    if live & (1 << i) == 0 {
+                        assert!(got[i].is_none() && !occ[i]);
+                        continue;
+                    }
+                    let want = world.intersect(&rays[i]);
+                    assert_eq!(
+                        bits(&got[i]),
+                        bits(&want),
+                        "world {w}, group {g}, lane {i}: {:?}",
+                        rays[i]
+                    );
+                    assert_eq!(
+                        occ[i],
+                        world.occluded(&rays[i]),
+                        "world {w}, group {g}, lane {i}"
+                    );
+                    rays_traced += 1;
+                    hits += usize::from(want.is_some());
+                    blocked += usize::from(occ[i]);
+                }
+            }
+        }
+        // The draws must exercise both outcomes.
+        assert!(rays_traced > 30_000 && hits > rays_traced / 4 && blocked > hits / 2);
+        assert!(hits < rays_traced * 9 / 10);
+    }
+
+    #[test]
+    fn meshes_and_spinning_instances_have_no_small_form() {
+        let spin = MotionLayer {
+            angular_velocity: Vec3::Y,
+            ..MotionLayer::default()
+        };
+        let sphere = Shape::Sphere(Sphere { radius: 1.0 });
+        let world = World::build(vec![instance(sphere.clone(), spin, 0)], (0.0, 1.0));
+        assert!(world.small().is_none());
+        let many = vec![instance(sphere, MotionLayer::default(), 0); MAX_INSTANCES + 1];
+        assert!(World::build(many.clone(), (0.0, 1.0)).small().is_none());
+        assert!(
+            World::build(many[1..].to_vec(), (0.0, 1.0))
+                .small()
+                .is_some()
+        );
+    }
+}
