@@ -2,7 +2,7 @@
 //! held still at the frame's mid-shutter time ([`Scene::frozen_at`]: the same picture without
 //! the blur), at equal spp, with the scene's own sampling. Runs are interleaved round by round
 //! on one rayon thread, and each run's time is that thread's CPU time
-//! (`/proc/thread-self/schedstat`), so load from other processes on a shared machine moves
+//! (`CLOCK_THREAD_CPUTIME_ID`), so load from other processes on a shared machine moves
 //! both sides alike and mostly cancels in the ratio.
 //!
 //! ```text

@@ -10,7 +10,7 @@
 //!
 //! Each round renders frame `--frame` (default 0) with `--seed` + round as the stimulus seed
 //! (independent noise per round) and prints `round <i> cpu_s <s> samples <n> ns_per_sample <x>`;
-//! the CPU time is the rendering thread's (`/proc/thread-self/schedstat`) over `render_frame`
+//! the CPU time is the rendering thread's (`CLOCK_THREAD_CPUTIME_ID`) over `render_frame`
 //! (world and sampler builds included, output not). `--out FILE` writes the last round's linear
 //! film (exposure applied) as little-endian f32, row-major RGB.
 

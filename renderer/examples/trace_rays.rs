@@ -8,7 +8,7 @@
 //! ```
 //!
 //! Each round prints one line `round <i> cpu_s <s> rays <n> lit <n>`; the CPU time is the
-//! thread's (`/proc/thread-self/schedstat`) over the frame only. `--export DIR` writes the
+//! thread's (`CLOCK_THREAD_CPUTIME_ID`) over the frame only. `--export DIR` writes the
 //! workload for other tracers as little-endian f32 arrays: `triangles.f32` (n x 9: the torus in
 //! world space and the two ground triangles), `rays.f32` (65,536 x 7: origin, direction,
 //! time), `light.f32` (3), and `ours.txt` (hits and lit count of the suite on the same rays).
