@@ -135,18 +135,28 @@ fn pool(threads: usize) -> rayon::ThreadPool {
         .expect("thread pool")
 }
 
-/// CPU time of every thread of this process, from `/proc/self/task/*/schedstat` (nanoseconds
-/// on CPU, first field). Linux only; elsewhere the group measures 0 and says so.
+/// CPU time of every thread of this process, live or finished, from
+/// `clock_gettime(CLOCK_PROCESS_CPUTIME_ID)` (nanoseconds, brought up to date at the call;
+/// `/proc/self/task/*/schedstat`, used before, moves only at scheduler ticks). Unix only;
+/// elsewhere the group measures 0.
 struct CpuTime;
 
+#[cfg(unix)]
 fn process_cpu_ns() -> f64 {
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
-        return 0.0;
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
     };
-    tasks
-        .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("schedstat")).ok())
-        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .sum()
+    // SAFETY: `ts` is a valid, writable timespec for the duration of the call.
+    if unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) } != 0 {
+        return 0.0;
+    }
+    ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
+}
+
+#[cfg(not(unix))]
+fn process_cpu_ns() -> f64 {
+    0.0
 }
 
 impl Measurement for CpuTime {

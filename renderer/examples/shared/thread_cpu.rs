@@ -8,6 +8,7 @@
 use anyhow::{Result, bail};
 
 /// CPU time of the calling thread, nanoseconds.
+#[cfg(unix)]
 pub fn thread_cpu_ns() -> Result<f64> {
     let mut ts = libc::timespec {
         tv_sec: 0,
@@ -21,4 +22,10 @@ pub fn thread_cpu_ns() -> Result<f64> {
         );
     }
     Ok(ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64)
+}
+
+/// CPU time of the calling thread: not available off Unix.
+#[cfg(not(unix))]
+pub fn thread_cpu_ns() -> Result<f64> {
+    bail!("the thread CPU clock (CLOCK_THREAD_CPUTIME_ID) needs a Unix system")
 }
