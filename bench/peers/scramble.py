@@ -72,10 +72,12 @@ def affordable(point_set, budget_s, ns):
     return n
 
 
-def report_best(report, table, peer):
+def report_best(report, table, peer, over_budget=()):
     """Name the peer's best sampler and each randomization's best point set in `report`, with
-    the latter's RMSE over the former's."""
-    best_peer = min((v["rmse"], k) for k, v in table.items() if k.startswith(peer))
+    the latter's RMSE over the former's. Samplers named in `over_budget` (peer table keys) took
+    more than the budget and are left out of the peer's best: not an equal-time result."""
+    best_peer = min((v["rmse"], k) for k, v in table.items()
+                    if k.startswith(peer) and k not in over_budget)
     report[f"best_{peer}"] = best_peer[1]
     for r in RANDOMIZATIONS:
         best = min((v["rmse"], k) for k, v in table.items()
@@ -159,7 +161,12 @@ def main():
             "spp": spp, "rmse": statistics.mean(errs),
             "cpu_s_over_budget": round(statistics.median(times) / budget, 3)}
     report["equal_time"] = table
-    report_best(report, table, "mitsuba")
+    # Mitsuba's orthogonal sampler rounds the spp up to a prime's square (16 to 25), so it
+    # spends 2-3 times the budget: listed in the table, not counted as the best at equal time
+    # (a sampler more than half again over the budget is not an equal-time result).
+    over = [f"mitsuba {k}" for k, t in report["mitsuba_cpu_s"].items() if t > 1.5 * budget]
+    report["mitsuba_over_budget"] = over
+    report_best(report, table, "mitsuba", over)
     report["load_average_after"] = " ".join(f"{x:.1f}" for x in os.getloadavg())
     print("\n" + json.dumps(report, indent=2), flush=True)  # on its own lines: see scramble.sh
 
