@@ -2,8 +2,8 @@
 //!
 //! [`World`] is a two-level structure (top level over instances' swept bounds, per-mesh BVHs in
 //! object space); [`pose`] is how an instance's pose depends on time; [`swept`] its bounds over
-//! a shutter interval; [`chain`] the per-ray form of a spinning pose; [`packet`] the four-lane
-//! form of a world of a few spheres and planes (four rays at once, bit for bit the scalar
+//! a shutter interval; [`chain`] the per-ray form of a spinning pose; [`packet`] the packet
+//! form of a world of a few spheres and planes (eight rays at once, bit for bit the scalar
 //! results). See `docs/geometry.md`.
 
 pub mod chain;

@@ -1,10 +1,10 @@
-//! Four rays at once against a small analytic world: the "small world" packet form of a
+//! [`LANES`] rays at once against a small analytic world: the "small world" packet form of a
 //! [`World`] made only of spheres and planes.
 //!
 //! Why: on a scene of a sphere over a plane, one camera sample is a chain of dependent square
 //! roots and divisions (top-level traversal, sphere roots, normals, the shadow ray), so a
-//! single ray keeps the core waiting on latency. Four independent rays in the four lanes of an
-//! `f32x4` fill those waits: every instance is tested for all four lanes at once, brute force
+//! single ray keeps the core waiting on latency. Independent rays in the lanes of a [`Lane`]
+//! vector fill those waits: every instance is tested for all lanes at once, brute force
 //! (with a handful of instances a top-level BVH costs more than it saves).
 //!
 //! Bit identity with [`World::intersect`] and [`World::occluded`] is the contract: every lane
@@ -30,10 +30,17 @@ use super::pose::{Pose, PoseOverTime};
 use super::{Instance, SurfaceHit};
 use crate::geometry::{Ray, Shape};
 use glam::{Mat3A, Vec3A};
-use wide::f32x4;
+
+/// Rays per packet: the lanes of [`Lane`]. (With baseline x86-64's SSE2, `f32x8` is two
+/// `f32x4` halves per operation: no wider arithmetic, but two independent latency chains
+/// interleaved.)
+pub const LANES: usize = 8;
+
+/// One `f32` per ray of a packet.
+pub type Lane = wide::f32x8;
 
 /// At most this many instances: brute force tests each for every ray, and past about this
-/// many the top-level BVH (which skips most of them) wins even against four lanes.
+/// many the top-level BVH (which skips most of them) wins even against a packet.
 pub const MAX_INSTANCES: usize = 16;
 
 /// The packet form of a world of at most [`MAX_INSTANCES`] spheres and planes.
@@ -88,15 +95,15 @@ impl SmallPose {
         })
     }
 
-    /// The four rays in object space: `(origin, dir)` per axis.
+    /// The packet's rays in object space: `(origin, dir)` per axis.
     #[inline(always)]
-    fn ray_to_object(&self, ray: &Ray4) -> ([f32x4; 3], [f32x4; 3]) {
+    fn ray_to_object(&self, ray: &RayPacket) -> ([Lane; 3], [Lane; 3]) {
         let p = self.translation.to_array();
-        let tr: [f32x4; 3] = match self.velocity {
-            None => p.map(f32x4::splat),
+        let tr: [Lane; 3] = match self.velocity {
+            None => p.map(Lane::splat),
             Some(v) => {
                 let v = v.to_array();
-                std::array::from_fn(|k| f32x4::splat(p[k]) + f32x4::splat(v[k]) * ray.time)
+                std::array::from_fn(|k| Lane::splat(p[k]) + Lane::splat(v[k]) * ray.time)
             }
         };
         let o = std::array::from_fn(|k| ray.origin[k] - tr[k]);
@@ -109,47 +116,47 @@ impl SmallPose {
 
 /// `m * v` lane by lane in glam's order: `(x_axis v.x + y_axis v.y) + z_axis v.z`.
 #[inline(always)]
-fn mul(m: &Mat3A, v: [f32x4; 3]) -> [f32x4; 3] {
+fn mul(m: &Mat3A, v: [Lane; 3]) -> [Lane; 3] {
     let (cx, cy, cz) = (
         m.x_axis.to_array(),
         m.y_axis.to_array(),
         m.z_axis.to_array(),
     );
     std::array::from_fn(|k| {
-        f32x4::splat(cx[k]) * v[0] + f32x4::splat(cy[k]) * v[1] + f32x4::splat(cz[k]) * v[2]
+        Lane::splat(cx[k]) * v[0] + Lane::splat(cy[k]) * v[1] + Lane::splat(cz[k]) * v[2]
     })
 }
 
 /// glam's SSE2 `Vec3A::dot`, lane by lane.
 #[inline(always)]
-fn dot(a: &[f32x4; 3], b: &[f32x4; 3]) -> f32x4 {
+fn dot(a: &[Lane; 3], b: &[Lane; 3]) -> Lane {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// `f32::min` / `f32::max` lane by lane where it matters: a NaN operand gives the other one.
 /// (Which zero two equal zeros give does not matter: a zero is never above `t_min = 0`.)
 #[inline(always)]
-fn min_max(a: f32x4, b: f32x4) -> (f32x4, f32x4) {
+fn min_max(a: Lane, b: Lane) -> (Lane, Lane) {
     let a_nan = a.is_nan();
     let min_is_b = b.simd_lt(a) | a_nan;
     let max_is_b = a.simd_lt(b) | a_nan;
     (min_is_b.bitselect(b, a), max_is_b.bitselect(b, a))
 }
 
-/// Four rays, lane `i` holding ray `i` (only origin, direction, time and `t_max`: the lanes
+/// [`LANES`] rays, lane `i` holding ray `i` (only origin, direction, time and `t_max`: the lanes
 /// traced here all have `t_min = 0`).
 #[derive(Clone, Copy, Debug)]
-pub struct Ray4 {
-    origin: [f32x4; 3],
-    dir: [f32x4; 3],
-    time: f32x4,
-    t_max: f32x4,
+pub struct RayPacket {
+    origin: [Lane; 3],
+    dir: [Lane; 3],
+    time: Lane,
+    t_max: Lane,
 }
 
-impl Ray4 {
+impl RayPacket {
     /// The lanes of `simple` (not empty); the others repeat one of them, so that no lane
     /// computes with a NaN or a zero direction (their results are dropped anyway).
-    fn of(rays: &[Ray; 4], simple: u32) -> Self {
+    fn of(rays: &[Ray; LANES], simple: u32) -> Self {
         let first = &rays[simple.trailing_zeros() as usize];
         Self::new(&std::array::from_fn(|i| {
             if simple & (1 << i) != 0 {
@@ -160,16 +167,16 @@ impl Ray4 {
         }))
     }
 
-    pub fn new(rays: &[Ray; 4]) -> Self {
-        let lanes = |v: [Vec3A; 4]| -> [f32x4; 3] {
+    pub fn new(rays: &[Ray; LANES]) -> Self {
+        let lanes = |v: [Vec3A; LANES]| -> [Lane; 3] {
             let v = v.map(|v| v.to_array());
-            std::array::from_fn(|k| f32x4::new([v[0][k], v[1][k], v[2][k], v[3][k]]))
+            std::array::from_fn(|k| Lane::new(std::array::from_fn(|i| v[i][k])))
         };
         Self {
             origin: lanes(rays.each_ref().map(|r| r.origin)),
             dir: lanes(rays.each_ref().map(|r| r.dir)),
-            time: f32x4::new(rays.each_ref().map(|r| r.time)),
-            t_max: f32x4::new(rays.each_ref().map(|r| r.t_max)),
+            time: Lane::new(rays.each_ref().map(|r| r.time)),
+            t_max: Lane::new(rays.each_ref().map(|r| r.t_max)),
         }
     }
 }
@@ -177,56 +184,56 @@ impl Ray4 {
 /// The nearest sphere root in `(0, t_max)` per lane ([`crate::geometry::Sphere::closest`]'s
 /// arithmetic), `+inf` where there is none.
 #[inline(always)]
-fn sphere(radius: f32, o: &[f32x4; 3], d: &[f32x4; 3], t_max: f32x4) -> f32x4 {
-    let r = f32x4::splat(radius);
+fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) -> Lane {
+    let r = Lane::splat(radius);
     let a = dot(d, d);
     let half_b = dot(o, d);
-    let c = dot(o, o) - f32x4::splat(radius * radius);
+    let c = dot(o, o) - Lane::splat(radius * radius);
     let k = half_b / a;
-    let foot: [f32x4; 3] = std::array::from_fn(|i| o[i] - d[i] * k);
+    let foot: [Lane; 3] = std::array::from_fn(|i| o[i] - d[i] * k);
     let f = dot(&foot, &foot).sqrt();
     let disc = a * ((r - f) * (r + f));
     // `signum`: 1 with half_b's sign (a NaN half_b makes q NaN either way).
-    let ok = a.simd_ne(f32x4::ZERO) & a.is_finite() & disc.simd_ge(f32x4::ZERO);
+    let ok = a.simd_ne(Lane::ZERO) & a.is_finite() & disc.simd_ge(Lane::ZERO);
     if !ok.any() {
         // Every lane misses: skip the roots' square root and two divisions.
-        return f32x4::splat(f32::INFINITY);
+        return Lane::splat(f32::INFINITY);
     }
-    let sign = (half_b & f32x4::splat(-0.0)) | f32x4::ONE;
+    let sign = (half_b & Lane::splat(-0.0)) | Lane::ONE;
     let q = -(half_b + sign * disc.sqrt());
     // q == 0 gives the roots (0, 0) in the scalar code: never above t_min = 0.
-    let ok = ok & q.simd_ne(f32x4::ZERO);
+    let ok = ok & q.simd_ne(Lane::ZERO);
     let (t0, t1) = min_max(q / a, c / q);
-    let in_range = |t: f32x4| t.simd_gt(f32x4::ZERO) & t.simd_lt(t_max);
+    let in_range = |t: Lane| t.simd_gt(Lane::ZERO) & t.simd_lt(t_max);
     let (in0, in1) = (in_range(t0), in_range(t1));
-    let t = in0.bitselect(t0, in1.bitselect(t1, f32x4::splat(f32::INFINITY)));
-    ok.bitselect(t, f32x4::splat(f32::INFINITY))
+    let t = in0.bitselect(t0, in1.bitselect(t1, Lane::splat(f32::INFINITY)));
+    ok.bitselect(t, Lane::splat(f32::INFINITY))
 }
 
 /// The plane y = 0 per lane ([`crate::geometry::Plane::closest`]'s arithmetic), `+inf` where
 /// it is missed.
 #[inline(always)]
-fn plane(half: Option<(f32, f32)>, o: &[f32x4; 3], d: &[f32x4; 3], t_max: f32x4) -> f32x4 {
+fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) -> Lane {
     let t = -o[1] / d[1];
     // A zero d.y gives an infinite or NaN t, which fails the range test anyway.
-    let mut ok = d[1].simd_ne(f32x4::ZERO) & t.simd_gt(f32x4::ZERO) & t.simd_lt(t_max);
+    let mut ok = d[1].simd_ne(Lane::ZERO) & t.simd_gt(Lane::ZERO) & t.simd_lt(t_max);
     if let Some((hx, hz)) = half {
         let px = o[0] + d[0] * t;
         let pz = o[2] + d[2] * t;
-        ok = ok & px.abs().simd_le(f32x4::splat(hx)) & pz.abs().simd_le(f32x4::splat(hz));
+        ok = ok & px.abs().simd_le(Lane::splat(hx)) & pz.abs().simd_le(Lane::splat(hz));
     }
-    ok.bitselect(t, f32x4::splat(f32::INFINITY))
+    ok.bitselect(t, Lane::splat(f32::INFINITY))
 }
 
 /// `o + d t` lane by lane ([`Ray::at`]).
 #[inline(always)]
-fn point_at(o: &[f32x4; 3], d: &[f32x4; 3], t: f32x4) -> [f32x4; 3] {
+fn point_at(o: &[Lane; 3], d: &[Lane; 3], t: Lane) -> [Lane; 3] {
     std::array::from_fn(|k| o[k] + d[k] * t)
 }
 
-/// The four lanes as vectors.
+/// The lanes as vectors.
 #[inline(always)]
-fn lanes_of(v: &[f32x4; 3]) -> [Vec3A; 4] {
+fn lanes_of(v: &[Lane; 3]) -> [Vec3A; LANES] {
     let [x, y, z] = v.map(|c| c.to_array());
     std::array::from_fn(|i| Vec3A::new(x[i], y[i], z[i]))
 }
@@ -234,10 +241,10 @@ fn lanes_of(v: &[f32x4; 3]) -> [Vec3A; 4] {
 /// glam's `normalize_or_zero` lane by lane: `v * (1 / sqrt(v.v))` where that factor is finite
 /// and positive, else zero.
 #[inline(always)]
-fn normalize_or_zero(v: [f32x4; 3]) -> [f32x4; 3] {
-    let rcp = f32x4::ONE / dot(&v, &v).sqrt();
-    let ok = rcp.is_finite() & rcp.simd_gt(f32x4::ZERO);
-    v.map(|c| ok.bitselect(c * rcp, f32x4::ZERO))
+fn normalize_or_zero(v: [Lane; 3]) -> [Lane; 3] {
+    let rcp = Lane::ONE / dot(&v, &v).sqrt();
+    let ok = rcp.is_finite() & rcp.simd_gt(Lane::ZERO);
+    v.map(|c| ok.bitselect(c * rcp, Lane::ZERO))
 }
 
 impl SmallShape {
@@ -245,13 +252,13 @@ impl SmallShape {
     /// normal alike for spheres and planes): the object-space normal ([`Shape::surface`]),
     /// through the inverse transpose, normalised, as [`World::intersect`] does it.
     #[inline(always)]
-    fn world_normal(&self, ray: &Ray4, t: f32x4) -> [f32x4; 3] {
+    fn world_normal(&self, ray: &RayPacket, t: Lane) -> [Lane; 3] {
         let local = match self.kind {
             Kind::Sphere { .. } => {
                 let (o, d) = self.pose.ray_to_object(ray);
                 point_at(&o, &d, t)
             }
-            Kind::Plane { .. } => [f32x4::ZERO, f32x4::ONE, f32x4::ZERO],
+            Kind::Plane { .. } => [Lane::ZERO, Lane::ONE, Lane::ZERO],
         };
         let world = match self.pose.matrix {
             None => local,
@@ -262,7 +269,7 @@ impl SmallShape {
 
     /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none.
     #[inline(always)]
-    fn closest(&self, ray: &Ray4) -> f32x4 {
+    fn closest(&self, ray: &RayPacket) -> Lane {
         let (o, d) = self.pose.ray_to_object(ray);
         match self.kind {
             Kind::Sphere { radius } => sphere(radius, &o, &d, ray.t_max),
@@ -302,23 +309,28 @@ impl SmallWorld {
     /// The lanes (bit `i` for lane `i`) of `live` this form answers itself; the others go to
     /// the scalar path.
     #[inline]
-    fn simple_lanes(world: &World, rays: &[Ray; 4], live: u32) -> u32 {
-        let lanes = (0..4).fold(0, |m, i| m | (u32::from(simple(world, &rays[i])) << i));
+    fn simple_lanes(world: &World, rays: &[Ray; LANES], live: u32) -> u32 {
+        let lanes = (0..LANES).fold(0, |m, i| m | (u32::from(simple(world, &rays[i])) << i));
         lanes & live
     }
 
     /// [`World::intersect`] for each live lane (bit `i` of `live`); `None` for the others.
-    pub fn intersect4(&self, world: &World, rays: &[Ray; 4], live: u32) -> [Option<SurfaceHit>; 4] {
+    pub fn intersect_lanes(
+        &self,
+        world: &World,
+        rays: &[Ray; LANES],
+        live: u32,
+    ) -> [Option<SurfaceHit>; LANES] {
         let simple = Self::simple_lanes(world, rays, live);
-        let mut out = [None; 4];
+        let mut out = [None; LANES];
         let mut scalar = live & !simple;
         if simple != 0 {
-            let ray4 = Ray4::of(rays, simple);
+            let packet = RayPacket::of(rays, simple);
             let mut nearest = Nearest::new();
             for (i, shape) in self.shapes.iter().enumerate() {
-                nearest.add(shape.closest(&ray4), i as u32);
+                nearest.add(shape.closest(&packet), i as u32);
             }
-            scalar |= self.surfaces(&ray4, &nearest, simple, &mut out);
+            scalar |= self.surfaces(&packet, &nearest, simple, &mut out);
         }
         for (i, slot) in out.iter_mut().enumerate() {
             if scalar & (1 << i) != 0 {
@@ -333,13 +345,13 @@ impl SmallWorld {
     /// returns the lanes with a tie, left to the scalar path.
     fn surfaces(
         &self,
-        ray: &Ray4,
+        ray: &RayPacket,
         nearest: &Nearest,
         simple: u32,
-        out: &mut [Option<SurfaceHit>; 4],
+        out: &mut [Option<SurfaceHit>; LANES],
     ) -> u32 {
         let tie = simple & nearest.tie.to_bitmask();
-        let hit = nearest.t.simd_lt(f32x4::splat(f32::INFINITY)).to_bitmask();
+        let hit = nearest.t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask();
         let mut pending = simple & !tie & hit;
         if pending == 0 {
             return tie;
@@ -368,15 +380,15 @@ impl SmallWorld {
     }
 
     /// [`World::occluded`] for each live lane (bit `i` of `live`); `false` for the others.
-    pub fn occluded4(&self, world: &World, rays: &[Ray; 4], live: u32) -> [bool; 4] {
+    pub fn occluded_lanes(&self, world: &World, rays: &[Ray; LANES], live: u32) -> [bool; LANES] {
         let simple = Self::simple_lanes(world, rays, live);
         let mut blocked = 0;
         if simple != 0 {
-            let ray4 = Ray4::of(rays, simple);
+            let packet = RayPacket::of(rays, simple);
             for shape in &self.shapes {
                 blocked |= shape
-                    .closest(&ray4)
-                    .simd_lt(f32x4::splat(f32::INFINITY))
+                    .closest(&packet)
+                    .simd_lt(Lane::splat(f32::INFINITY))
                     .to_bitmask();
                 if blocked & simple == simple {
                     break;
@@ -411,25 +423,25 @@ fn simple(world: &World, ray: &Ray) -> bool {
 /// The running nearest hit per lane: its `t` (`+inf` for none), its instance, and whether
 /// another instance gave exactly the same `t`.
 struct Nearest {
-    t: f32x4,
-    tie: f32x4,
-    instance: [u32; 4],
+    t: Lane,
+    tie: Lane,
+    instance: [u32; LANES],
 }
 
 impl Nearest {
     fn new() -> Self {
         Self {
-            t: f32x4::splat(f32::INFINITY),
-            tie: f32x4::ZERO,
-            instance: [0; 4],
+            t: Lane::splat(f32::INFINITY),
+            tie: Lane::ZERO,
+            instance: [0; LANES],
         }
     }
 
     #[inline(always)]
-    fn add(&mut self, t: f32x4, instance: u32) {
+    fn add(&mut self, t: Lane, instance: u32) {
         let closer = t.simd_lt(self.t);
-        let same = t.simd_eq(self.t) & t.simd_lt(f32x4::splat(f32::INFINITY));
-        self.tie = closer.bitselect(f32x4::ZERO, self.tie) | same;
+        let same = t.simd_eq(self.t) & t.simd_lt(Lane::splat(f32::INFINITY));
+        self.tie = closer.bitselect(Lane::ZERO, self.tie) | same;
         self.t = closer.bitselect(t, self.t);
         let mask = closer.to_bitmask();
         if mask != 0 {
@@ -619,7 +631,7 @@ mod tests {
     }
 
     #[test]
-    fn four_lanes_match_the_scalar_world_bit_for_bit() {
+    fn packets_match_the_scalar_world_bit_for_bit() {
         let (mut rays_traced, mut hits, mut blocked) = (0, 0, 0);
         for w in 0..300u64 {
             let mut d = Draw(HashRng::new(0x9ac7e7, &[w]));
@@ -632,11 +644,13 @@ mod tests {
             let world = random_world(&mut d, offset);
             let small = world.small().expect("spheres and planes only");
             for g in 0..40u64 {
-                let rays: [Ray; 4] = std::array::from_fn(|_| random_ray(&mut d, &world, offset));
-                let live = (d.pick(16) as u32) | if g % 2 == 0 { 15 } else { 0 };
-                let got = small.intersect4(&world, &rays, live);
-                let occ = small.occluded4(&world, &rays, live);
-                for i in 0..4 {
+                let rays: [Ray; LANES] =
+                    std::array::from_fn(|_| random_ray(&mut d, &world, offset));
+                let all = (1u32 << LANES) - 1;
+                let live = (d.pick(u64::from(all) + 1) as u32) | if g % 2 == 0 { all } else { 0 };
+                let got = small.intersect_lanes(&world, &rays, live);
+                let occ = small.occluded_lanes(&world, &rays, live);
+                for i in 0..LANES {
                     if live & (1 << i) == 0 {
                         assert!(got[i].is_none() && !occ[i]);
                         continue;

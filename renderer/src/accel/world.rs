@@ -34,7 +34,7 @@ pub struct World {
     /// Instances without finite bounds (infinite planes), tested by every ray.
     unbounded: Vec<u32>,
     shutter: (f32, f32),
-    /// The four-lane form, for a world of a few spheres and planes ([`SmallWorld`]).
+    /// The packet form, for a world of a few spheres and planes ([`SmallWorld`]).
     small: Option<SmallWorld>,
 }
 
@@ -98,7 +98,7 @@ impl World {
         }
     }
 
-    /// The four-lane form, if this world is small and analytic enough to have one.
+    /// The packet form, if this world is small and analytic enough to have one.
     pub fn small(&self) -> Option<&SmallWorld> {
         self.small.as_ref()
     }

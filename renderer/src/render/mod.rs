@@ -7,7 +7,7 @@ pub mod pipeline;
 pub mod sequence;
 
 use crate::accel::World;
-use crate::accel::packet::SmallWorld;
+use crate::accel::packet::{LANES, SmallWorld};
 use crate::camera::{Camera, Projection};
 use crate::film::Film;
 use crate::geometry::Ray;
@@ -57,7 +57,7 @@ pub fn render_frame(
     render_frame_on(scene, sampling, seed, frame, progress, true)
 }
 
-/// [`render_frame`], tracing four samples at once where the world allows it
+/// [`render_frame`], tracing [`LANES`] samples at once where the world allows it
 /// ([`World::small`]) only if `packets`; the scalar path gives the same bytes (the tests
 /// compare the two).
 pub(crate) fn render_frame_on(
@@ -109,8 +109,8 @@ pub(crate) fn render_frame_on(
     Ok((film, stats))
 }
 
-/// Trace every sample of the pixels `x0..x0 + span.len()` of row `y` into `span`, four at a
-/// time if the world has a four-lane form `small`; returns the samples traced and how many
+/// Trace every sample of the pixels `x0..x0 + span.len()` of row `y` into `span`, [`LANES`]
+/// at a time if the world has a packet form `small`; returns the samples traced and how many
 /// were not finite.
 fn render_span(
     tracer: &Tracer,
@@ -187,8 +187,9 @@ fn scalar_span(
     non_finite
 }
 
-/// Four rays at a time: the span's samples, pixel by pixel and each pixel's in order 0..spp,
-/// taken four at a time (so spp = 1 fills the lanes too, from neighbouring pixels); each lane's
+/// [`LANES`] rays at a time: the span's samples, pixel by pixel and each pixel's in order
+/// 0..spp, taken [`LANES`] at a time (so a small spp fills the lanes too, from neighbouring
+/// pixels); each lane's
 /// radiance is added to its own pixel, so every pixel's sum adds the same terms in the same
 /// order as [`scalar_span`]. Returns the number of samples that were not finite.
 fn packet_span(
@@ -204,12 +205,12 @@ fn packet_span(
     let n = span.len() * spp;
     span.fill(Vec3::ZERO);
     let mut non_finite = 0;
-    let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::ZERO, 0.0); 4];
-    let mut owner = [0usize; 4];
+    let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::ZERO, 0.0); LANES];
+    let mut owner = [0usize; LANES];
     let mut pixel = (0, sampler.pixel(x0, y));
-    for first in (0..n).step_by(4) {
+    for first in (0..n).step_by(LANES) {
         let mut live = 0u32;
-        for (k, j) in (first..n.min(first + 4)).enumerate() {
+        for (k, j) in (first..n.min(first + LANES)).enumerate() {
             let p = j / spp;
             if p != pixel.0 {
                 pixel = (p, sampler.pixel(x0 + p as u32, y));
@@ -223,8 +224,8 @@ fn packet_span(
             continue;
         }
         fill_dead_lanes(&mut rays, live);
-        let l = tracer.radiance4(small, &rays, live);
-        for k in (0..4).filter(|k| live & (1 << k) != 0) {
+        let l = tracer.radiance_lanes(small, &rays, live);
+        for k in (0..LANES).filter(|k| live & (1 << k) != 0) {
             if l[k].is_finite() {
                 span[owner[k]] += l[k];
             } else {
@@ -239,7 +240,7 @@ fn packet_span(
 }
 
 /// Lanes outside `live` (not empty) repeat a live lane's ray (their results are not used).
-fn fill_dead_lanes(rays: &mut [Ray; 4], live: u32) {
+fn fill_dead_lanes(rays: &mut [Ray; LANES], live: u32) {
     let any = rays[live.trailing_zeros() as usize];
     for (k, r) in rays.iter_mut().enumerate() {
         if live & (1 << k) == 0 {
@@ -291,7 +292,7 @@ mod tests {
     }
 
     #[test]
-    fn four_lane_frames_equal_scalar_frames_bit_for_bit() {
+    fn packet_frames_equal_scalar_frames_bit_for_bit() {
         let scene = small_scene();
         let shutter = scene.settings.shutter(1);
         assert!(
@@ -299,7 +300,7 @@ mod tests {
                 .small()
                 .is_some()
         );
-        for spp in [1, 3, 4, 5, 16] {
+        for spp in [1, 3, 4, 5, 7, 8, 9, 16] {
             let sampling = SamplingConfig {
                 spp,
                 ..SamplingConfig::default()

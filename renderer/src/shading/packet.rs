@@ -1,8 +1,8 @@
-//! Shading four camera rays at once, for worlds with a four-lane form
-//! ([`crate::accel::packet::SmallWorld`]): the four primary rays go through
-//! [`SmallWorld::intersect4`](crate::accel::packet::SmallWorld::intersect4) together, and for
-//! each light the lanes' shadow rays through `occluded4` together, so the latency of one
-//! lane's square roots and divisions hides behind the others'.
+//! Shading [`LANES`] camera rays at once, for worlds with a packet form
+//! ([`crate::accel::packet::SmallWorld`]): the primary rays go through
+//! [`SmallWorld::intersect_lanes`](crate::accel::packet::SmallWorld::intersect_lanes)
+//! together, and for each light the lanes' shadow rays through `occluded_lanes` together, so
+//! the latency of one lane's square roots and divisions hides behind the others'.
 //!
 //! Each lane's radiance is [`Tracer::radiance`]'s to the bit: the same scalar code prepares
 //! every shadow ray and shades every hit ([`shadow_ray`], [`lit_by`], [`facing_normals`]), the
@@ -12,7 +12,7 @@
 
 use super::{Tracer, facing_normals, lit_by, shadow_ray};
 use crate::accel::SurfaceHit;
-use crate::accel::packet::SmallWorld;
+use crate::accel::packet::{LANES, SmallWorld};
 use crate::geometry::Ray;
 use crate::light::LightSample;
 use crate::material::Material;
@@ -29,18 +29,23 @@ struct Surface<'a> {
 
 impl Tracer<'_> {
     /// [`Tracer::radiance`]`(rays[i], 0)` for each lane `i` whose bit is set in `live` (the
-    /// others give zero and cast nothing). The world must have a four-lane form.
-    pub fn radiance4(&self, small: &SmallWorld, rays: &[Ray; 4], live: u32) -> [Vec3; 4] {
+    /// others give zero and cast nothing). The world must have a packet form.
+    pub fn radiance_lanes(
+        &self,
+        small: &SmallWorld,
+        rays: &[Ray; LANES],
+        live: u32,
+    ) -> [Vec3; LANES] {
         self.count(live);
-        let hits = small.intersect4(self.world, rays, live);
-        let surfaces: [Option<Surface>; 4] = std::array::from_fn(|i| {
+        let hits = small.intersect_lanes(self.world, rays, live);
+        let surfaces: [Option<Surface>; LANES] = std::array::from_fn(|i| {
             let hit = hits[i].as_ref()?;
             let v = -rays[i].dir;
             let (ng, ns) = facing_normals(hit, v);
             let m = &self.scene.materials[hit.material as usize];
             Some(Surface { hit, m, ng, ns, v })
         });
-        let direct = self.direct4(small, rays, &surfaces);
+        let direct = self.direct_lanes(small, rays, &surfaces);
         std::array::from_fn(|i| match &surfaces[i] {
             Some(s) => {
                 let mut l = s.m.ambient * self.scene.settings.ambient_light;
@@ -59,16 +64,16 @@ impl Tracer<'_> {
 
     /// [`Tracer::direct`] for the lanes with a lit surface: per light, the lanes' shadow rays
     /// are tested together.
-    fn direct4(
+    fn direct_lanes(
         &self,
         small: &SmallWorld,
-        rays: &[Ray; 4],
-        surfaces: &[Option<Surface>; 4],
-    ) -> [Vec3; 4] {
-        let mut sum = [Vec3::ZERO; 4];
+        rays: &[Ray; LANES],
+        surfaces: &[Option<Surface>; LANES],
+    ) -> [Vec3; LANES] {
+        let mut sum = [Vec3::ZERO; LANES];
         // Filled in place per light (lanes outside `live` keep stale rays, never read).
         let mut shadows = *rays;
-        let mut samples: [Option<(LightSample, f32)>; 4] = [None; 4];
+        let mut samples: [Option<(LightSample, f32)>; LANES] = [None; LANES];
         for light in &self.scene.lights {
             let mut live = 0;
             for (i, surface) in surfaces.iter().enumerate() {
@@ -87,7 +92,7 @@ impl Tracer<'_> {
                 continue;
             }
             self.count(live);
-            let blocked = small.occluded4(self.world, &shadows, live);
+            let blocked = small.occluded_lanes(self.world, &shadows, live);
             for (i, surface) in surfaces.iter().enumerate() {
                 if let (Some((sample, cos)), Some(s), false) = (&samples[i], surface, blocked[i]) {
                     sum[i] += lit_by(s.m, s.ns, s.v, sample, *cos);
