@@ -414,8 +414,7 @@ fn simple(world: &World, ray: &Ray) -> bool {
     ray.origin.is_finite()
         & ray.dir.is_finite()
         & (ray.dir != Vec3A::ZERO)
-        & (ray.time >= world.shutter().0)
-        & (ray.time <= world.shutter().1)
+        & world.in_shutter(ray)
         & (ray.t_min == 0.0)
         & !ray.t_max.is_nan()
 }

@@ -112,12 +112,9 @@ impl World {
         self.poses.iter().all(PoseOverTime::is_fixed)
     }
 
-    /// The shutter interval the top level was built for.
-    pub(super) fn shutter(&self) -> (f32, f32) {
-        self.shutter
-    }
-
-    fn in_shutter(&self, ray: &Ray) -> bool {
+    /// Whether the ray's time lies in the shutter interval the top level was built for.
+    #[inline]
+    pub(super) fn in_shutter(&self, ray: &Ray) -> bool {
         ray.time >= self.shutter.0 && ray.time <= self.shutter.1
     }
 

@@ -223,7 +223,7 @@ fn packet_span(
         if live == 0 {
             continue;
         }
-        fill_dead_lanes(&mut rays, live);
+        // Lanes outside `live` keep stale rays: the packet code never computes with them.
         let l = tracer.radiance_lanes(small, &rays, live);
         for k in (0..LANES).filter(|k| live & (1 << k) != 0) {
             if l[k].is_finite() {
@@ -237,16 +237,6 @@ fn packet_span(
         *p /= spp as f32;
     }
     non_finite
-}
-
-/// Lanes outside `live` (not empty) repeat a live lane's ray (their results are not used).
-fn fill_dead_lanes(rays: &mut [Ray; LANES], live: u32) {
-    let any = rays[live.trailing_zeros() as usize];
-    for (k, r) in rays.iter_mut().enumerate() {
-        if live & (1 << k) == 0 {
-            *r = any;
-        }
-    }
 }
 
 #[cfg(test)]

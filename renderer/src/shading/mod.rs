@@ -70,66 +70,79 @@ impl<'a> Tracer<'a> {
     }
 
     fn shade(&self, ray: &Ray, hit: &SurfaceHit, depth: u32) -> Vec3 {
-        let m = &self.scene.materials[hit.material as usize];
-        let v = -ray.dir;
-        let (ng, ns) = facing_normals(hit, v);
-        let mut l = m.ambient * self.scene.settings.ambient_light;
-        if m.lit() {
-            l += self.direct(ray, hit, m, ng, ns, v);
+        let s = Surface::new(self.scene, ray, hit);
+        self.combine(ray, &s, depth, || self.direct(ray, &s))
+    }
+
+    /// The radiance of a hit ready to shade: the ambient term, then the direct light (asked of
+    /// `direct` only for a lit material), then the mirror reflection. The one formula of both
+    /// the scalar and the packet path.
+    #[inline(always)]
+    fn combine(&self, ray: &Ray, s: &Surface, depth: u32, direct: impl FnOnce() -> Vec3) -> Vec3 {
+        let mut l = s.m.ambient * self.scene.settings.ambient_light;
+        if s.m.lit() {
+            l += direct();
         }
-        if depth < self.max_depth && m.reflective() {
-            l += self.reflection(ray, hit, m, ng, ns, v, depth);
+        if depth < self.max_depth && s.m.reflective() {
+            l += self.reflection(ray, s, depth);
         }
         l
     }
 
     /// Lambert and Phong terms of every light that reaches the point.
-    fn direct(
-        &self,
-        ray: &Ray,
-        hit: &SurfaceHit,
-        m: &Material,
-        ng: Vec3A,
-        ns: Vec3A,
-        v: Vec3A,
-    ) -> Vec3 {
+    fn direct(&self, ray: &Ray, s: &Surface) -> Vec3 {
         let mut sum = Vec3::ZERO;
         for light in &self.scene.lights {
-            let Some((shadow, s, cos)) = shadow_ray(ray, hit, ng, ns, light) else {
+            let Some((shadow, sample, cos)) = shadow_ray(ray, s, light) else {
                 continue;
             };
             self.rays.set(self.rays.get() + 1);
             if self.world.occluded(&shadow) {
                 continue;
             }
-            sum += lit_by(m, ns, v, &s, cos);
+            sum += lit_by(s, &sample, cos);
         }
         sum
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn reflection(
-        &self,
-        ray: &Ray,
-        hit: &SurfaceHit,
-        m: &Material,
-        ng: Vec3A,
-        ns: Vec3A,
-        v: Vec3A,
-        depth: u32,
-    ) -> Vec3 {
-        let Some(fresnel) = m.fresnel else {
+    fn reflection(&self, ray: &Ray, s: &Surface, depth: u32) -> Vec3 {
+        let Some(fresnel) = s.m.fresnel else {
             return Vec3::ZERO;
         };
-        let mut dir = reflect(ray.dir, ns);
+        let mut dir = reflect(ray.dir, s.ns);
         // An interpolated normal can send the mirror ray into the surface; mirror about the
         // true surface instead.
-        if dir.dot(ng) <= 0.0 {
-            dir = reflect(ray.dir, ng);
+        if dir.dot(s.ng) <= 0.0 {
+            dir = reflect(ray.dir, s.ng);
         }
-        let weight = fresnel.reflectance(ns.dot(v)) * m.specular;
-        let bounce = Ray::new(hit.spawn_point(dir), dir, ray.time);
+        let weight = fresnel.reflectance(s.ns.dot(s.v)) * s.m.specular;
+        let bounce = Ray::new(s.hit.spawn_point(dir), dir, ray.time);
         weight * self.radiance(&bounce, depth + 1)
+    }
+}
+
+/// A hit ready to shade: its material, its normals turned towards the viewer, and the
+/// direction towards the viewer.
+struct Surface<'a> {
+    hit: &'a SurfaceHit,
+    m: &'a Material,
+    ng: Vec3A,
+    ns: Vec3A,
+    v: Vec3A,
+}
+
+impl<'a> Surface<'a> {
+    #[inline]
+    fn new(scene: &'a Scene, ray: &Ray, hit: &'a SurfaceHit) -> Self {
+        let v = -ray.dir;
+        let (ng, ns) = facing_normals(hit, v);
+        Self {
+            hit,
+            m: &scene.materials[hit.material as usize],
+            ng,
+            ns,
+            v,
+        }
     }
 }
 
@@ -137,16 +150,11 @@ impl<'a> Tracer<'a> {
 /// light cannot light the point (it sits on a point light, or lies below the shading or the
 /// geometric surface).
 #[inline]
-fn shadow_ray(
-    ray: &Ray,
-    hit: &SurfaceHit,
-    ng: Vec3A,
-    ns: Vec3A,
-    light: &Light,
-) -> Option<(Ray, LightSample, f32)> {
+fn shadow_ray(ray: &Ray, surface: &Surface, light: &Light) -> Option<(Ray, LightSample, f32)> {
+    let hit = surface.hit;
     let s = light.sample(hit.point)?;
-    let cos = ns.dot(s.towards);
-    if cos <= 0.0 || ng.dot(s.towards) <= 0.0 {
+    let cos = surface.ns.dot(s.towards);
+    if cos <= 0.0 || surface.ng.dot(s.towards) <= 0.0 {
         return None;
     }
     let origin = hit.spawn_point(s.towards);
@@ -166,7 +174,8 @@ fn shadow_ray(
 
 /// The Lambert and Phong terms of an unblocked light sample `s` with `cos = ns · l`.
 #[inline]
-fn lit_by(m: &Material, ns: Vec3A, v: Vec3A, s: &LightSample, cos: f32) -> Vec3 {
+fn lit_by(surface: &Surface, s: &LightSample, cos: f32) -> Vec3 {
+    let (m, ns, v) = (surface.m, surface.ns, surface.v);
     // powf is the dearest step of a diffuse hit: skip it where it adds 0 (same bits:
     // the lobe is finite, so `0 * lobe` is +0 and `x + 0 = x`).
     let specular = if m.specular == Vec3::ZERO {

@@ -5,27 +5,16 @@
 //! the latency of one lane's square roots and divisions hides behind the others'.
 //!
 //! Each lane's radiance is [`Tracer::radiance`]'s to the bit: the same scalar code prepares
-//! every shadow ray and shades every hit ([`shadow_ray`], [`lit_by`], [`facing_normals`]), the
+//! every shadow ray and shades every hit ([`Surface::new`], [`shadow_ray`], [`lit_by`]), the
 //! per-lane sums add the same terms in the same order (ambient, then each light in scene
-//! order, then the reflection), and the ray count grows by the same rays. Reflections take
+//! order, then the reflection: [`Tracer::combine`]), and the ray count grows by the same rays. Reflections take
 //! the scalar path per lane.
 
-use super::{Tracer, facing_normals, lit_by, shadow_ray};
-use crate::accel::SurfaceHit;
+use super::{Surface, Tracer, lit_by, shadow_ray};
 use crate::accel::packet::{LANES, SmallWorld};
 use crate::geometry::Ray;
 use crate::light::LightSample;
-use crate::material::Material;
-use glam::{Vec3, Vec3A};
-
-/// A lane's hit, ready to shade.
-struct Surface<'a> {
-    hit: &'a SurfaceHit,
-    m: &'a Material,
-    ng: Vec3A,
-    ns: Vec3A,
-    v: Vec3A,
-}
+use glam::Vec3;
 
 impl Tracer<'_> {
     /// [`Tracer::radiance`]`(rays[i], 0)` for each lane `i` whose bit is set in `live` (the
@@ -38,25 +27,11 @@ impl Tracer<'_> {
     ) -> [Vec3; LANES] {
         self.count(live);
         let hits = small.intersect_lanes(self.world, rays, live);
-        let surfaces: [Option<Surface>; LANES] = std::array::from_fn(|i| {
-            let hit = hits[i].as_ref()?;
-            let v = -rays[i].dir;
-            let (ng, ns) = facing_normals(hit, v);
-            let m = &self.scene.materials[hit.material as usize];
-            Some(Surface { hit, m, ng, ns, v })
-        });
+        let surfaces: [Option<Surface>; LANES] =
+            std::array::from_fn(|i| Some(Surface::new(self.scene, &rays[i], hits[i].as_ref()?)));
         let direct = self.direct_lanes(small, rays, &surfaces);
         std::array::from_fn(|i| match &surfaces[i] {
-            Some(s) => {
-                let mut l = s.m.ambient * self.scene.settings.ambient_light;
-                if s.m.lit() {
-                    l += direct[i];
-                }
-                if 0 < self.max_depth && s.m.reflective() {
-                    l += self.reflection(&rays[i], s.hit, s.m, s.ng, s.ns, s.v, 0);
-                }
-                l
-            }
+            Some(s) => self.combine(&rays[i], s, 0, || direct[i]),
             None if live & (1 << i) != 0 => self.background(rays[i].dir),
             None => Vec3::ZERO,
         })
@@ -81,8 +56,7 @@ impl Tracer<'_> {
                 let Some(s) = surface.as_ref().filter(|s| s.m.lit()) else {
                     continue;
                 };
-                if let Some((shadow, sample, cos)) = shadow_ray(&rays[i], s.hit, s.ng, s.ns, light)
-                {
+                if let Some((shadow, sample, cos)) = shadow_ray(&rays[i], s, light) {
                     shadows[i] = shadow;
                     samples[i] = Some((sample, cos));
                     live |= 1 << i;
@@ -95,7 +69,7 @@ impl Tracer<'_> {
             let blocked = small.occluded_lanes(self.world, &shadows, live);
             for (i, surface) in surfaces.iter().enumerate() {
                 if let (Some((sample, cos)), Some(s), false) = (&samples[i], surface, blocked[i]) {
-                    sum[i] += lit_by(s.m, s.ns, s.v, sample, *cos);
+                    sum[i] += lit_by(s, sample, *cos);
                 }
             }
         }
