@@ -135,28 +135,16 @@ fn pool(threads: usize) -> rayon::ThreadPool {
         .expect("thread pool")
 }
 
-/// CPU time of every thread of this process, live or finished, from
-/// `clock_gettime(CLOCK_PROCESS_CPUTIME_ID)` (nanoseconds, brought up to date at the call;
-/// `/proc/self/task/*/schedstat`, used before, moves only at scheduler ticks). Unix only;
-/// elsewhere the group measures 0.
+/// CPU time of every thread of this process, live or finished
+/// (`CLOCK_PROCESS_CPUTIME_ID`, `examples/shared/thread_cpu.rs`). Unix only; elsewhere the
+/// group measures 0.
 struct CpuTime;
 
-#[cfg(unix)]
-fn process_cpu_ns() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec for the duration of the call.
-    if unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) } != 0 {
-        return 0.0;
-    }
-    ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
-}
+#[path = "../examples/shared/thread_cpu.rs"]
+mod thread_cpu;
 
-#[cfg(not(unix))]
 fn process_cpu_ns() -> f64 {
-    0.0
+    thread_cpu::process_cpu_ns().unwrap_or(0.0)
 }
 
 impl Measurement for CpuTime {
