@@ -195,6 +195,15 @@ class Mitsuba:
             self.mi.render(self.scenes[key], seed=seed)  # JIT warm-up: time only later renders
         return np.array(self.mi.render(self.scenes[key], seed=seed), dtype=np.float64)
 
+    def reference(self, spp, seed, sampler="multijitter", per_pass=256):
+        """A reference of `spp` samples per pixel: the mean of passes of at most `per_pass`
+        spp (one pass of thousands would hold every sample's state at once in the LLVM
+        wavefront), each with its own seed, with a stratified sampler so that the reference's
+        own noise stays well below the errors it measures."""
+        passes = max(1, -(-spp // per_pass))
+        return sum(self.render(sampler, spp // passes, seed * 1000 + k)
+                   for k in range(passes)) / passes
+
     def timed(self, sampler, spp, seed=0):
         self.render(sampler, spp, seed)
         t = cpu()
@@ -226,7 +235,7 @@ def compare_samples(args):
 
     # Agreement: two references per renderer at args.ref_spp.
     refs_o = [ours(args, scene, args.ref_spp, "sobol", 100 + k, raw)[1] for k in range(2)]
-    refs_m = [mts.render("independent", args.ref_spp, 100 + k) for k in range(2)]
+    refs_m = [mts.reference(args.ref_spp, 100 + k) for k in range(2)]
     noise_o = np.mean((refs_o[0] - refs_o[1]) ** 2) / 2
     noise_m = np.mean((refs_m[0] - refs_m[1]) ** 2) / 2
     ref_o, ref_m = (refs_o[0] + refs_o[1]) / 2, (refs_m[0] + refs_m[1]) / 2
@@ -281,7 +290,7 @@ def main():
     p.add_argument("--bin", type=Path, required=True, help="folder with the release examples")
     p.add_argument("--cache", type=Path, required=True)
     p.add_argument("--rounds", type=int, default=7)
-    p.add_argument("--ref-spp", type=int, default=256)
+    p.add_argument("--ref-spp", type=int, default=4096)
     p.add_argument("--time-spp", type=int, default=16)
     p.add_argument("--rmse-spp", type=int, default=16)
     p.add_argument("--seeds", type=int, default=4)

@@ -91,7 +91,7 @@ def main():
     p.add_argument("--bin", type=Path, required=True)
     p.add_argument("--cache", type=Path, required=True)
     p.add_argument("--rounds", type=int, default=5)
-    p.add_argument("--ref-spp", type=int, default=512)
+    p.add_argument("--ref-spp", type=int, default=4096)
     p.add_argument("--time-spp", type=int, default=16)
     p.add_argument("--mitsuba-spp", type=int, default=16)
     p.add_argument("--seeds", type=int, default=4)
@@ -111,7 +111,7 @@ def main():
     # 1. Agreement (the suite's references: Sobol, scrambled).
     refs_o = [ours(args, scene, args.ref_spp, "sobol", "scramble", 100 + k, raw)[1]
               for k in range(2)]
-    refs_m = [mts.render("independent", args.ref_spp, 100 + k) for k in range(2)]
+    refs_m = [mts.reference(args.ref_spp, 100 + k) for k in range(2)]
     noise_o = np.mean((refs_o[0] - refs_o[1]) ** 2) / 2
     noise_m = np.mean((refs_m[0] - refs_m[1]) ** 2) / 2
     ref_o, ref_m = (refs_o[0] + refs_o[1]) / 2, (refs_m[0] + refs_m[1]) / 2
