@@ -32,14 +32,14 @@ impl PointSet for Halton {
         true
     }
 
-    fn scrambled(&self, _n: usize, dims: usize, i: usize, key: u64) -> [f64; 3] {
+    fn scrambled(&self, n: usize, dims: usize, i: usize, key: u64) -> [f64; 3] {
         super::coords(dims, |d| match d {
             0 => fraction(owen_base2(
                 (i as u32).reverse_bits(),
                 axis_key(key, d) as u32,
             )),
-            1 => owen_radical_inverse(3, i as u32, axis_key(key, d)),
-            _ => owen_radical_inverse(5, i as u32, axis_key(key, d)),
+            1 => owen_radical_inverse(3, i as u32, n as u32, axis_key(key, d)),
+            _ => owen_radical_inverse(5, i as u32, n as u32, axis_key(key, d)),
         })
     }
 }

@@ -42,7 +42,7 @@ impl PointSet for Hammersley {
                 (i as u32).reverse_bits(),
                 axis_key(key, d) as u32,
             )),
-            _ => owen_radical_inverse(3, i as u32, axis_key(key, d)),
+            _ => owen_radical_inverse(3, i as u32, n as u32, axis_key(key, d)),
         })
     }
 }
