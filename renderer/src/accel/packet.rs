@@ -129,7 +129,7 @@ fn mul(m: &Mat3A, v: [Lane; 3]) -> [Lane; 3] {
 
 /// glam's SSE2 `Vec3A::dot`, lane by lane.
 #[inline(always)]
-fn dot(a: &[Lane; 3], b: &[Lane; 3]) -> Lane {
+pub(crate) fn dot(a: &[Lane; 3], b: &[Lane; 3]) -> Lane {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
@@ -147,10 +147,10 @@ fn min_max(a: Lane, b: Lane) -> (Lane, Lane) {
 /// traced here all have `t_min = 0`).
 #[derive(Clone, Copy, Debug)]
 pub struct RayPacket {
-    origin: [Lane; 3],
-    dir: [Lane; 3],
-    time: Lane,
-    t_max: Lane,
+    pub(crate) origin: [Lane; 3],
+    pub(crate) dir: [Lane; 3],
+    pub(crate) time: Lane,
+    pub(crate) t_max: Lane,
 }
 
 impl RayPacket {
@@ -177,6 +177,19 @@ impl RayPacket {
             dir: lanes(rays.each_ref().map(|r| r.dir)),
             time: Lane::new(rays.each_ref().map(|r| r.time)),
             t_max: Lane::new(rays.each_ref().map(|r| r.t_max)),
+        }
+    }
+
+    /// Lane `i` as a ray (for the lanes the scalar path takes).
+    pub(crate) fn lane(&self, i: usize) -> Ray {
+        let v =
+            |c: &[Lane; 3]| Vec3A::new(c[0].as_array()[i], c[1].as_array()[i], c[2].as_array()[i]);
+        Ray {
+            origin: v(&self.origin),
+            dir: v(&self.dir),
+            time: self.time.as_array()[i],
+            t_min: 0.0,
+            t_max: self.t_max.as_array()[i],
         }
     }
 }
@@ -227,7 +240,7 @@ fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) ->
 
 /// `o + d t` lane by lane ([`Ray::at`]).
 #[inline(always)]
-fn point_at(o: &[Lane; 3], d: &[Lane; 3], t: Lane) -> [Lane; 3] {
+pub(crate) fn point_at(o: &[Lane; 3], d: &[Lane; 3], t: Lane) -> [Lane; 3] {
     std::array::from_fn(|k| o[k] + d[k] * t)
 }
 
@@ -326,10 +339,7 @@ impl SmallWorld {
         let mut scalar = live & !simple;
         if simple != 0 {
             let packet = RayPacket::of(rays, simple);
-            let mut nearest = Nearest::new();
-            for (i, shape) in self.shapes.iter().enumerate() {
-                nearest.add(shape.closest(&packet), i as u32);
-            }
+            let nearest = self.nearest(&packet);
             scalar |= self.surfaces(&packet, &nearest, simple, &mut out);
         }
         for (i, slot) in out.iter_mut().enumerate() {
@@ -351,19 +361,20 @@ impl SmallWorld {
         out: &mut [Option<SurfaceHit>; LANES],
     ) -> u32 {
         let tie = simple & nearest.tie.to_bitmask();
-        let hit = nearest.t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask();
+        let hit = nearest.hit();
         let mut pending = simple & !tie & hit;
         if pending == 0 {
             return tie;
         }
         let t = nearest.t.to_array();
+        let instances = nearest.instance.to_array().map(|i| i as u32);
         let point = lanes_of(&point_at(&ray.origin, &ray.dir, nearest.t));
         while pending != 0 {
-            let instance = nearest.instance[pending.trailing_zeros() as usize];
+            let instance = instances[pending.trailing_zeros() as usize];
             let shape = &self.shapes[instance as usize];
             let normal = lanes_of(&shape.world_normal(ray, nearest.t));
             for (i, slot) in out.iter_mut().enumerate() {
-                if pending & (1 << i) != 0 && nearest.instance[i] == instance {
+                if pending & (1 << i) != 0 && instances[i] == instance {
                     *slot = Some(SurfaceHit {
                         t: t[i],
                         point: point[i],
@@ -382,19 +393,10 @@ impl SmallWorld {
     /// [`World::occluded`] for each live lane (bit `i` of `live`); `false` for the others.
     pub fn occluded_lanes(&self, world: &World, rays: &[Ray; LANES], live: u32) -> [bool; LANES] {
         let simple = Self::simple_lanes(world, rays, live);
-        let mut blocked = 0;
-        if simple != 0 {
-            let packet = RayPacket::of(rays, simple);
-            for shape in &self.shapes {
-                blocked |= shape
-                    .closest(&packet)
-                    .simd_lt(Lane::splat(f32::INFINITY))
-                    .to_bitmask();
-                if blocked & simple == simple {
-                    break;
-                }
-            }
-        }
+        let blocked = match simple {
+            0 => 0,
+            _ => self.blocked(&RayPacket::of(rays, simple), simple),
+        };
         std::array::from_fn(|i| {
             if live & (1 << i) == 0 {
                 false
@@ -404,6 +406,63 @@ impl SmallWorld {
                 blocked & (1 << i) != 0
             }
         })
+    }
+}
+
+/// The packet API: rays that stay in lanes from the camera to the shadow test.
+impl SmallWorld {
+    /// The lanes of `live` (bit `i` for lane `i`) whose ray this form traces as the scalar
+    /// path does: [`simple`] in lanes (every packet ray has `t_min = 0`).
+    #[inline(always)]
+    pub(crate) fn simple_packet(world: &World, ray: &RayPacket, live: u32) -> u32 {
+        let finite = |v: &[Lane; 3]| v[0].is_finite() & v[1].is_finite() & v[2].is_finite();
+        let d = &ray.dir;
+        let zero = d[0].simd_eq(Lane::ZERO) & d[1].simd_eq(Lane::ZERO) & d[2].simd_eq(Lane::ZERO);
+        let (t0, t1) = world.shutter();
+        let in_shutter = ray.time.simd_ge(Lane::splat(t0)) & ray.time.simd_le(Lane::splat(t1));
+        let t_max_ok = ray.t_max.simd_eq(ray.t_max);
+        let ok = finite(&ray.origin) & finite(d) & in_shutter & t_max_ok;
+        ok.to_bitmask() & !zero.to_bitmask() & live
+    }
+
+    /// Each lane's nearest hit over every instance (meaningful for the lanes of
+    /// [`SmallWorld::simple_packet`]).
+    #[inline]
+    pub(crate) fn nearest(&self, ray: &RayPacket) -> Nearest {
+        let mut nearest = Nearest::new();
+        for (i, shape) in self.shapes.iter().enumerate() {
+            nearest.add(shape.closest(ray), i as u32);
+        }
+        nearest
+    }
+
+    /// The materials of the instances, in instance order.
+    pub(crate) fn materials(&self) -> impl Iterator<Item = u32> + '_ {
+        self.shapes.iter().map(|s| s.material)
+    }
+
+    /// The unit world-space normal of instance `i` at parameter `t` of each lane's ray, as
+    /// [`World::intersect`] gives it (geometric and shading normal alike).
+    #[inline]
+    pub(crate) fn normal(&self, i: usize, ray: &RayPacket, t: Lane) -> [Lane; 3] {
+        self.shapes[i].world_normal(ray, t)
+    }
+
+    /// [`World::occluded`] for the lanes of `simple` (from [`SmallWorld::simple_packet`]):
+    /// the lanes blocked.
+    #[inline]
+    pub(crate) fn blocked(&self, ray: &RayPacket, simple: u32) -> u32 {
+        let mut blocked = 0;
+        for shape in &self.shapes {
+            blocked |= shape
+                .closest(ray)
+                .simd_lt(Lane::splat(f32::INFINITY))
+                .to_bitmask();
+            if blocked & simple == simple {
+                break;
+            }
+        }
+        blocked & simple
     }
 }
 
@@ -419,12 +478,13 @@ fn simple(world: &World, ray: &Ray) -> bool {
         & !ray.t_max.is_nan()
 }
 
-/// The running nearest hit per lane: its `t` (`+inf` for none), its instance, and whether
-/// another instance gave exactly the same `t`.
-struct Nearest {
-    t: Lane,
-    tie: Lane,
-    instance: [u32; LANES],
+/// The running nearest hit per lane: its `t` (`+inf` for none), its instance (an index, as
+/// an `f32`: exact, and compared in lanes), and whether another instance gave exactly the
+/// same `t`.
+pub(crate) struct Nearest {
+    pub(crate) t: Lane,
+    pub(crate) tie: Lane,
+    pub(crate) instance: Lane,
 }
 
 impl Nearest {
@@ -432,7 +492,7 @@ impl Nearest {
         Self {
             t: Lane::splat(f32::INFINITY),
             tie: Lane::ZERO,
-            instance: [0; LANES],
+            instance: Lane::ZERO,
         }
     }
 
@@ -442,14 +502,19 @@ impl Nearest {
         let same = t.simd_eq(self.t) & t.simd_lt(Lane::splat(f32::INFINITY));
         self.tie = closer.bitselect(Lane::ZERO, self.tie) | same;
         self.t = closer.bitselect(t, self.t);
-        let mask = closer.to_bitmask();
-        if mask != 0 {
-            for (i, slot) in self.instance.iter_mut().enumerate() {
-                if mask & (1 << i) != 0 {
-                    *slot = instance;
-                }
-            }
-        }
+        self.instance = closer.bitselect(Lane::splat(instance as f32), self.instance);
+    }
+
+    /// The lanes whose nearest hit is instance `i`'s (whether or not they hit at all).
+    #[inline(always)]
+    pub(crate) fn is(&self, i: usize) -> Lane {
+        self.instance.simd_eq(Lane::splat(i as f32))
+    }
+
+    /// The lanes (bit `i` for lane `i`) that hit something.
+    #[inline(always)]
+    pub(crate) fn hit(&self) -> u32 {
+        self.t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask()
     }
 }
 
@@ -648,6 +713,14 @@ mod tests {
                 let all = (1u32 << LANES) - 1;
                 let live = (d.pick(u64::from(all) + 1) as u32) | if g % 2 == 0 { all } else { 0 };
                 let got = small.intersect_lanes(&world, &rays, live);
+                // The packet API's test in lanes (for its rays: `t_min = 0`).
+                let packet_rays =
+                    (0..LANES).fold(0, |m, i| m | u32::from(rays[i].t_min == 0.0) << i);
+                assert_eq!(
+                    SmallWorld::simple_packet(&world, &RayPacket::new(&rays), live) & packet_rays,
+                    SmallWorld::simple_lanes(&world, &rays, live) & packet_rays,
+                    "world {w}, group {g}"
+                );
                 let occ = small.occluded_lanes(&world, &rays, live);
                 for i in 0..LANES {
                     if live & (1 << i) == 0 {

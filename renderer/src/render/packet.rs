@@ -1,0 +1,154 @@
+//! Tracing a row's samples [`LANES`] at a time, for worlds with a packet form
+//! ([`SmallWorld`]): the camera rays are made straight in the lanes of a [`RayPacket`] (each
+//! lane's sample lookup and shutter time are scalar; the direction through the film point, and
+//! its normalisation, are done for all lanes at once) and shaded by
+//! [`Tracer::radiance_packet`]. No ray is ever laid out one at a time.
+//!
+//! Bit identity with [`super::scalar_span`]: each lane does [`CameraRays::ray`]'s f32
+//! operations in its order ([`Projection::direction`]: `sx = (2 fx / w - 1) hw`,
+//! `sy = (1 - 2 fy / h) hh`, `d = (forward + right sx) + up sy`, and glam's SSE2
+//! `normalize`, `d / sqrt((x x + y y) + z z)`), and each lane's radiance is added to its own
+//! pixel in sample order.
+
+use super::CameraRays;
+use crate::accel::packet::{LANES, Lane, RayPacket, SmallWorld, dot};
+use crate::camera::CameraFrame;
+use crate::sampling::{FrameSampler, PixelSampler};
+use crate::shading::Tracer;
+use glam::Vec3;
+
+/// [`LANES`] rays at a time: the span's samples, pixel by pixel and each pixel's in order
+/// 0..spp, taken [`LANES`] at a time (so a small spp fills the lanes too, from neighbouring
+/// pixels); each lane's radiance is added to its own pixel, so every pixel's sum adds the same
+/// terms in the same order as [`super::scalar_span`]. Returns the number of samples that were
+/// not finite.
+pub(super) fn packet_span(
+    tracer: &Tracer,
+    small: &SmallWorld,
+    sampler: &FrameSampler,
+    camera: &CameraRays,
+    x0: u32,
+    y: u32,
+    span: &mut [Vec3],
+) -> u64 {
+    let spp = sampler.spp();
+    let n = span.len() * spp;
+    span.fill(Vec3::ZERO);
+    let mut non_finite = 0;
+    let mut lanes = CameraLanes::new(camera);
+    let mut owner = [0usize; LANES];
+    let mut pixel = (0, sampler.pixel(x0, y));
+    for first in (0..n).step_by(LANES) {
+        let mut live = 0u32;
+        for (k, j) in (first..n.min(first + LANES)).enumerate() {
+            let p = j / spp;
+            if p != pixel.0 {
+                pixel = (p, sampler.pixel(x0 + p as u32, y));
+            }
+            if lanes.set(k, &pixel.1, x0 + p as u32, y, j % spp) {
+                owner[k] = p;
+                live |= 1 << k;
+            }
+        }
+        if live == 0 {
+            continue;
+        }
+        // Lanes outside `live` keep stale values: their results are never read.
+        let l = tracer.radiance_packet(small, &lanes.packet(), live);
+        for k in (0..LANES).filter(|k| live & (1 << k) != 0) {
+            if l[k].is_finite() {
+                span[owner[k]] += l[k];
+            } else {
+                non_finite += 1;
+            }
+        }
+    }
+    for p in span.iter_mut() {
+        *p /= spp as f32;
+    }
+    non_finite
+}
+
+/// A packet's camera rays before their directions: each lane's film point, time and camera
+/// frame (set once for a still camera).
+struct CameraLanes<'a> {
+    camera: &'a CameraRays<'a>,
+    fx: [f32; LANES],
+    fy: [f32; LANES],
+    time: [f32; LANES],
+    /// Eye, forward, right, up: per axis, per lane.
+    frame: [[[f32; LANES]; 3]; 4],
+}
+
+impl<'a> CameraLanes<'a> {
+    fn new(camera: &'a CameraRays<'a>) -> Self {
+        let mut lanes = Self {
+            camera,
+            fx: [0.0; LANES],
+            fy: [0.0; LANES],
+            time: [0.0; LANES],
+            frame: [[[0.0; LANES]; 3]; 4],
+        };
+        if let Some(view) = camera
+            .camera
+            .frame_at(0.0)
+            .filter(|_| !camera.camera.is_moving())
+        {
+            for k in 0..LANES {
+                lanes.set_frame(k, &view);
+            }
+        }
+        lanes
+    }
+
+    /// Lane `k` takes sample `i` of pixel `(x, y)` ([`CameraRays::ray`] up to the direction);
+    /// `false` where the camera has no frame at the sample's time (the sample is black).
+    #[inline]
+    fn set(&mut self, k: usize, pixel: &PixelSampler, x: u32, y: u32, i: usize) -> bool {
+        let (t0, t1) = self.camera.shutter;
+        let s = pixel.sample(i);
+        let time = t0 + s.t * (t1 - t0);
+        if self.camera.camera.is_moving() {
+            let Some(view) = self.camera.camera.frame_at(time) else {
+                return false;
+            };
+            self.set_frame(k, &view);
+        }
+        self.time[k] = time;
+        self.fx[k] = x as f32 + 0.5 + s.dx;
+        self.fy[k] = y as f32 + 0.5 + s.dy;
+        true
+    }
+
+    fn set_frame(&mut self, k: usize, view: &CameraFrame) {
+        for (axes, v) in self
+            .frame
+            .iter_mut()
+            .zip([view.eye, view.forward, view.right, view.up])
+        {
+            for (axis, c) in axes.iter_mut().zip(v.to_array()) {
+                axis[k] = c;
+            }
+        }
+    }
+
+    /// The lanes' rays: [`Projection::direction`](crate::camera::Projection::direction) in
+    /// lanes.
+    #[inline]
+    fn packet(&self) -> RayPacket {
+        let p = &self.camera.projection;
+        let two = Lane::splat(2.0);
+        let (fx, fy) = (Lane::new(self.fx), Lane::new(self.fy));
+        let sx = (two * fx * Lane::splat(p.inv_width) - Lane::ONE) * Lane::splat(p.half_width);
+        let sy = (Lane::ONE - two * fy * Lane::splat(p.inv_height)) * Lane::splat(p.half_height);
+        let [eye, forward, right, up] = self.frame.map(|v| v.map(Lane::new));
+        let d: [Lane; 3] = std::array::from_fn(|k| forward[k] + right[k] * sx + up[k] * sy);
+        let length = dot(&d, &d).sqrt();
+        RayPacket {
+            origin: eye,
+            dir: d.map(|c| c / length),
+            time: Lane::new(self.time),
+            t_max: Lane::splat(f32::INFINITY),
+        }
+    }
+}
