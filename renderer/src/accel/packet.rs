@@ -133,6 +133,13 @@ pub(crate) fn dot(a: &[Lane; 3], b: &[Lane; 3]) -> Lane {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// All bits set in the lanes of `bits` (bit `i` for lane `i`), clear in the others.
+#[inline(always)]
+pub(crate) fn lane_mask(bits: u32) -> Lane {
+    let bit = wide::i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
+    wide::bytemuck::cast((wide::i32x8::splat(bits as i32) & bit).simd_eq(bit))
+}
+
 /// `f32::min` / `f32::max` lane by lane where it matters: a NaN operand gives the other one.
 /// (Which zero two equal zeros give does not matter: a zero is never above `t_min = 0`.)
 #[inline(always)]

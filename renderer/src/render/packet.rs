@@ -1,8 +1,10 @@
-//! Tracing a row's samples [`LANES`] at a time, for worlds with a packet form
-//! ([`SmallWorld`]): the camera rays are made straight in the lanes of a [`RayPacket`] (each
-//! lane's sample lookup and shutter time are scalar; the direction through the film point, and
-//! its normalisation, are done for all lanes at once) and shaded by
-//! [`Tracer::radiance_packet`]. No ray is ever laid out one at a time.
+//! Tracing a row [`LANES`] pixels at a time, for worlds with a packet form ([`SmallWorld`]):
+//! lane `k` traces the samples of pixel `k` of the group and keeps its sum, so the pixels'
+//! sums add in lanes with no serial chain through memory. The camera rays are made straight
+//! in the lanes of a [`RayPacket`] (each lane's sample lookup and shutter time are scalar; the
+//! direction through the film point, and its normalisation, are done for all lanes at once)
+//! and shaded by [`Tracer::radiance_packet`], which answers in lanes too. No ray or radiance
+//! is ever laid out one at a time.
 //!
 //! Bit identity with [`super::scalar_span`]: each lane does [`CameraRays::ray`]'s f32
 //! operations in its order ([`Projection::direction`]: `sx = (2 fx / w - 1) hw`,
@@ -11,17 +13,16 @@
 //! pixel in sample order.
 
 use super::CameraRays;
-use crate::accel::packet::{LANES, Lane, RayPacket, SmallWorld, dot};
+use crate::accel::packet::{LANES, Lane, RayPacket, SmallWorld, dot, lane_mask};
 use crate::camera::CameraFrame;
 use crate::sampling::{FrameSampler, PixelSampler};
 use crate::shading::Tracer;
 use glam::Vec3;
 
-/// [`LANES`] rays at a time: the span's samples, pixel by pixel and each pixel's in order
-/// 0..spp, taken [`LANES`] at a time (so a small spp fills the lanes too, from neighbouring
-/// pixels); each lane's radiance is added to its own pixel, so every pixel's sum adds the same
-/// terms in the same order as [`super::scalar_span`]. Returns the number of samples that were
-/// not finite.
+/// [`LANES`] pixels at a time, one lane each: sample `i` of every pixel of the group, for `i`
+/// in 0..spp, so each lane's radiance is added to its own pixel's running sum (kept in lanes)
+/// in sample order, the terms and order of [`super::scalar_span`]. Returns the number of
+/// samples that were not finite.
 pub(super) fn packet_span(
     tracer: &Tracer,
     small: &SmallWorld,
@@ -32,39 +33,33 @@ pub(super) fn packet_span(
     span: &mut [Vec3],
 ) -> u64 {
     let spp = sampler.spp();
-    let n = span.len() * spp;
-    span.fill(Vec3::ZERO);
     let mut non_finite = 0;
     let mut lanes = CameraLanes::new(camera);
-    let mut owner = [0usize; LANES];
-    let mut pixel = (0, sampler.pixel(x0, y));
-    for first in (0..n).step_by(LANES) {
-        let mut live = 0u32;
-        for (k, j) in (first..n.min(first + LANES)).enumerate() {
-            let p = j / spp;
-            if p != pixel.0 {
-                pixel = (p, sampler.pixel(x0 + p as u32, y));
+    for (x, group) in (x0..).step_by(LANES).zip(span.chunks_mut(LANES)) {
+        let pixels: [PixelSampler; LANES] =
+            std::array::from_fn(|k| sampler.pixel(x + k.min(group.len() - 1) as u32, y));
+        let mut sum = [Lane::ZERO; 3];
+        for i in 0..spp {
+            let mut live = 0u32;
+            for (k, pixel) in pixels.iter().enumerate().take(group.len()) {
+                live |= u32::from(lanes.set(k, pixel, x + k as u32, y, i)) << k;
             }
-            if lanes.set(k, &pixel.1, x0 + p as u32, y, j % spp) {
-                owner[k] = p;
-                live |= 1 << k;
+            if live == 0 {
+                continue;
             }
+            // Lanes outside `live` keep stale values: their results are never read.
+            let l = tracer.radiance_packet(small, &lanes.packet(), live);
+            let finite = l[0].is_finite() & l[1].is_finite() & l[2].is_finite();
+            let add = finite.to_bitmask() & live;
+            non_finite += u64::from((live & !add).count_ones());
+            let add = lane_mask(add);
+            sum = std::array::from_fn(|c| add.bitselect(sum[c] + l[c], sum[c]));
         }
-        if live == 0 {
-            continue;
+        let n = Lane::splat(spp as f32);
+        let [r, g, b] = sum.map(|c| (c / n).to_array());
+        for (k, pixel) in group.iter_mut().enumerate() {
+            *pixel = Vec3::new(r[k], g[k], b[k]);
         }
-        // Lanes outside `live` keep stale values: their results are never read.
-        let l = tracer.radiance_packet(small, &lanes.packet(), live);
-        for k in (0..LANES).filter(|k| live & (1 << k) != 0) {
-            if l[k].is_finite() {
-                span[owner[k]] += l[k];
-            } else {
-                non_finite += 1;
-            }
-        }
-    }
-    for p in span.iter_mut() {
-        *p /= spp as f32;
     }
     non_finite
 }

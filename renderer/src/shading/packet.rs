@@ -18,68 +18,60 @@
 
 use super::{Surface, Tracer, phong};
 use crate::accel::SurfaceHit;
-use crate::accel::packet::{LANES, Lane, Nearest, RayPacket, SmallWorld, dot, point_at};
+use crate::accel::packet::{LANES, Lane, Nearest, RayPacket, SmallWorld, dot, lane_mask, point_at};
 use crate::light::Light;
 use crate::material::Material;
 use glam::{Vec3, Vec3A};
 
 /// A vector per lane.
-type V3 = [Lane; 3];
+pub type V3 = [Lane; 3];
 
 impl Tracer<'_> {
-    /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` whose bit is set in `live` (the
-    /// others give zero and cast nothing). `small` must be the world's packet form.
-    pub fn radiance_packet(&self, small: &SmallWorld, ray: &RayPacket, live: u32) -> [Vec3; LANES] {
+    /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` whose bit is set in `live`, in
+    /// lanes (the others' values are not to be read; they cast nothing). `small` must be the
+    /// world's packet form.
+    pub fn radiance_packet(&self, small: &SmallWorld, ray: &RayPacket, live: u32) -> V3 {
         let simple = SmallWorld::simple_packet(self.world, ray, live);
         let nearest = small.nearest(ray);
         // A tie between instances is the scalar path's to break.
         let packet = simple & !nearest.tie.to_bitmask();
         self.count(packet);
         let hit = packet & nearest.hit();
-        let mut out = [Vec3::ZERO; LANES];
-        if hit != 0 {
-            self.shade_packet(small, ray, &nearest, hit, &mut out);
-        }
+        let mut out = match hit {
+            0 => [Lane::ZERO; 3],
+            _ => self.shade_packet(small, ray, &nearest, hit),
+        };
         if self.scene.environment.is_some() {
             for i in lanes(packet & !hit) {
-                out[i] = self.background(ray.lane(i).dir);
+                set(&mut out, i, self.background(ray.lane(i).dir));
             }
         }
         for i in lanes(live & !packet) {
-            out[i] = self.radiance(&ray.lane(i), 0);
+            set(&mut out, i, self.radiance(&ray.lane(i), 0));
         }
         out
     }
 
-    /// [`Tracer::shade`] at depth 0 for the lanes of `hit` into `out`.
-    fn shade_packet(
-        &self,
-        small: &SmallWorld,
-        ray: &RayPacket,
-        nearest: &Nearest,
-        hit: u32,
-        out: &mut [Vec3; LANES],
-    ) {
+    /// [`Tracer::shade`] at depth 0 for the lanes of `hit` (zero in the others).
+    fn shade_packet(&self, small: &SmallWorld, ray: &RayPacket, nearest: &Nearest, hit: u32) -> V3 {
         let h = Hits::new(self, small, ray, nearest, hit);
         let direct = self.direct_packet(small, ray, &h);
         // [`Tracer::combine`]: the ambient term, then the direct light for a lit material.
-        let lit = mask(h.m.lit);
+        let (lit, hit_lanes) = (lane_mask(h.m.lit), lane_mask(hit));
         let a = self.scene.settings.ambient_light.to_array();
-        let l: V3 = std::array::from_fn(|k| {
+        let mut l: V3 = std::array::from_fn(|k| {
             let ambient = h.m.ambient[k] * Lane::splat(a[k]);
-            lit.bitselect(ambient + direct[k], ambient)
+            hit_lanes.bitselect(lit.bitselect(ambient + direct[k], ambient), Lane::ZERO)
         });
-        let l = vectors(&l);
-        for i in lanes(hit) {
-            out[i] = l[i];
-        }
         // Then the mirror reflection, lane by lane.
         for i in lanes(hit & h.m.reflective) {
             let ray = ray.lane(i);
             let hit = h.hit(small, nearest, i);
             let s = Surface::new(self.scene, &ray, &hit);
-            out[i] += self.reflection(&ray, &s, 0);
+            let sum = lane::<Vec3>(&l, i) + self.reflection(&ray, &s, 0);
+            set(&mut l, i, sum);
         }
+        l
     }
 
     /// [`Tracer::direct`] for the lit lanes of `h`: per light, the lanes' shadow rays are
@@ -106,7 +98,7 @@ impl Tracer<'_> {
                 continue;
             }
             let add = h.lit_by(&s, cos, open);
-            let open = mask(open);
+            let open = lane_mask(open);
             sum = std::array::from_fn(|k| open.bitselect(sum[k] + add[k], sum[k]));
         }
         sum
@@ -162,7 +154,7 @@ impl Hits {
         let point = point_at(&ray.origin, &ray.dir, nearest.t);
         let mut normal = [Lane::ZERO; 3];
         let mut m = Materials::default();
-        let on_lanes = mask(lanes);
+        let on_lanes = lane_mask(lanes);
         for (i, material) in small.materials().enumerate() {
             let on = nearest.is(i) & on_lanes;
             if !on.any() {
@@ -189,7 +181,7 @@ impl Hits {
     /// Lane `i`'s hit as [`World::intersect`](crate::accel::World::intersect) gives it.
     fn hit(&self, small: &SmallWorld, nearest: &Nearest, i: usize) -> SurfaceHit {
         let instance = nearest.instance.as_array()[i] as u32;
-        let normal = lane(&self.normal, i);
+        let normal: Vec3A = lane(&self.normal, i);
         SurfaceHit {
             t: self.t.as_array()[i],
             point: lane(&self.point, i),
@@ -229,7 +221,7 @@ impl Hits {
                 0.0
             }
         }));
-        let on = mask(phong_lanes);
+        let on = lane_mask(phong_lanes);
         self.m.specular.map(|c| on.bitselect(c * lobe, Lane::ZERO))
     }
 }
@@ -298,7 +290,7 @@ impl LightLanes {
                 towards: splat(towards.into()),
                 distance: None,
                 irradiance: splat(irradiance),
-                ok: mask(u32::MAX),
+                ok: lane_mask(u32::MAX),
             },
         }
     }
@@ -348,7 +340,7 @@ fn spawn_point(point: &V3, n: &V3, dir: &V3) -> V3 {
 fn facing_normals(n: &V3, v: &V3) -> (V3, V3) {
     let zero = n[0].simd_eq(Lane::ZERO) & n[1].simd_eq(Lane::ZERO) & n[2].simd_eq(Lane::ZERO);
     let finite = n[0].is_finite() & n[1].is_finite() & n[2].is_finite();
-    let bad = zero | (finite ^ mask(u32::MAX));
+    let bad = zero | (finite ^ lane_mask(u32::MAX));
     let ng = select(bad, v, n);
     let ng = flip_where(dot(&ng, v).simd_lt(Lane::ZERO), &ng);
     let ns = select(bad, &ng, n);
@@ -374,25 +366,18 @@ fn splat(v: Vec3) -> V3 {
     v.to_array().map(Lane::splat)
 }
 
-/// All bits set in the lanes of `bits` (bit `i` for lane `i`), clear in the others.
-#[inline(always)]
-fn mask(bits: u32) -> Lane {
-    Lane::new(std::array::from_fn(|i| {
-        f32::from_bits(if bits & (1 << i) != 0 { u32::MAX } else { 0 })
-    }))
-}
-
 /// Lane `i` of `v`.
 #[inline(always)]
-fn lane(v: &V3, i: usize) -> Vec3A {
-    Vec3A::new(v[0].as_array()[i], v[1].as_array()[i], v[2].as_array()[i])
+fn lane<T: From<[f32; 3]>>(v: &V3, i: usize) -> T {
+    T::from(v.each_ref().map(|c| c.as_array()[i]))
 }
 
-/// The lanes as vectors.
+/// Set lane `i` of `v` to `x`.
 #[inline(always)]
-fn vectors(v: &V3) -> [Vec3; LANES] {
-    let [x, y, z] = v.map(|c| c.to_array());
-    std::array::from_fn(|i| Vec3::new(x[i], y[i], z[i]))
+fn set(v: &mut V3, i: usize, x: Vec3) {
+    for (c, x) in v.iter_mut().zip(x.to_array()) {
+        c.as_mut_array()[i] = x;
+    }
 }
 
 /// The lanes of `bits`, in order.
