@@ -200,7 +200,7 @@ impl PixelSampler<'_> {
     }
 
     /// Sample `i` (< spp): point i, shifted with wrap-around (or scrambled), then warped.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, i: usize) -> PixelSample {
         let [u, v, t] = self.point(i);
         let (dx, dy) = self.frame.spatial.offset(u, v);
