@@ -202,13 +202,20 @@ impl RayPacket {
 }
 
 /// The nearest sphere root in `(0, t_max)` per lane ([`crate::geometry::Sphere::closest`]'s
-/// arithmetic), `+inf` where there is none.
+/// arithmetic), `+inf` where there is none; only the lanes of `active` need be right.
 #[inline(always)]
-fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) -> Lane {
+fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -> Lane {
     let r = Lane::splat(radius);
-    let a = dot(d, d);
     let half_b = dot(o, d);
     let c = dot(o, o) - Lane::splat(radius * radius);
+    // Outside (c > 0) and moving away (half_b > 0): q = -(half_b + sqrt(disc)) < 0, so both
+    // roots, q / a and c / q, are negative or -0 and neither is above 0. If every active lane
+    // is so, skip the division and the square roots (a shadow ray leaving the sphere).
+    let away = c.simd_gt(Lane::ZERO) & half_b.simd_gt(Lane::ZERO);
+    if active & !away.to_bitmask() == 0 {
+        return Lane::splat(f32::INFINITY);
+    }
+    let a = dot(d, d);
     let k = half_b / a;
     let foot: [Lane; 3] = std::array::from_fn(|i| o[i] - d[i] * k);
     let f = dot(&foot, &foot).sqrt();
@@ -231,9 +238,18 @@ fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) -> Lane {
 }
 
 /// The plane y = 0 per lane ([`crate::geometry::Plane::closest`]'s arithmetic), `+inf` where
-/// it is missed.
+/// it is missed; only the lanes of `active` need be right.
 #[inline(always)]
-fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) -> Lane {
+fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -> Lane {
+    // t = -o.y / d.y is above 0 only where o.y and d.y are non-zero with opposite signs
+    // (else it is negative, a zero or NaN): if no active lane is so, skip the division (a
+    // shadow ray leaving the plane, a camera ray looking up).
+    let (oy, dy) = (o[1], d[1]);
+    let towards = (oy.simd_lt(Lane::ZERO) & dy.simd_gt(Lane::ZERO))
+        | (oy.simd_gt(Lane::ZERO) & dy.simd_lt(Lane::ZERO));
+    if active & towards.to_bitmask() == 0 {
+        return Lane::splat(f32::INFINITY);
+    }
     let t = -o[1] / d[1];
     // A zero d.y gives an infinite or NaN t, which fails the range test anyway.
     let mut ok = d[1].simd_ne(Lane::ZERO) & t.simd_gt(Lane::ZERO) & t.simd_lt(t_max);
@@ -287,13 +303,14 @@ impl SmallShape {
         normalize_or_zero(world)
     }
 
-    /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none.
+    /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none; only the lanes of `active`
+    /// need be right.
     #[inline(always)]
-    fn closest(&self, ray: &RayPacket) -> Lane {
+    fn closest(&self, ray: &RayPacket, active: u32) -> Lane {
         let (o, d) = self.pose.ray_to_object(ray);
         match self.kind {
-            Kind::Sphere { radius } => sphere(radius, &o, &d, ray.t_max),
-            Kind::Plane { half_extent } => plane(half_extent, &o, &d, ray.t_max),
+            Kind::Sphere { radius } => sphere(radius, &o, &d, ray.t_max, active),
+            Kind::Plane { half_extent } => plane(half_extent, &o, &d, ray.t_max, active),
         }
     }
 }
@@ -346,7 +363,7 @@ impl SmallWorld {
         let mut scalar = live & !simple;
         if simple != 0 {
             let packet = RayPacket::of(rays, simple);
-            let nearest = self.nearest(&packet);
+            let nearest = self.nearest(&packet, simple);
             scalar |= self.surfaces(&packet, &nearest, simple, &mut out);
         }
         for (i, slot) in out.iter_mut().enumerate() {
@@ -432,13 +449,13 @@ impl SmallWorld {
         ok.to_bitmask() & !zero.to_bitmask() & live
     }
 
-    /// Each lane's nearest hit over every instance (meaningful for the lanes of
+    /// Each lane's nearest hit over every instance, right for the lanes of `simple` (from
     /// [`SmallWorld::simple_packet`]).
     #[inline]
-    pub(crate) fn nearest(&self, ray: &RayPacket) -> Nearest {
+    pub(crate) fn nearest(&self, ray: &RayPacket, simple: u32) -> Nearest {
         let mut nearest = Nearest::new();
         for (i, shape) in self.shapes.iter().enumerate() {
-            nearest.add(shape.closest(ray), i as u32);
+            nearest.add(shape.closest(ray, simple), i as u32);
         }
         nearest
     }
@@ -461,8 +478,9 @@ impl SmallWorld {
     pub(crate) fn blocked(&self, ray: &RayPacket, simple: u32) -> u32 {
         let mut blocked = 0;
         for shape in &self.shapes {
+            // Only the lanes not yet blocked need an answer.
             blocked |= shape
-                .closest(ray)
+                .closest(ray, simple & !blocked)
                 .simd_lt(Lane::splat(f32::INFINITY))
                 .to_bitmask();
             if blocked & simple == simple {

@@ -32,7 +32,7 @@ impl Tracer<'_> {
     /// world's packet form.
     pub fn radiance_packet(&self, small: &SmallWorld, ray: &RayPacket, live: u32) -> V3 {
         let simple = SmallWorld::simple_packet(self.world, ray, live);
-        let nearest = small.nearest(ray);
+        let nearest = small.nearest(ray, simple);
         // A tie between instances is the scalar path's to break.
         let packet = simple & !nearest.tie.to_bitmask();
         self.count(packet);
