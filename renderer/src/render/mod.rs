@@ -5,6 +5,7 @@
 
 mod packet;
 pub mod pipeline;
+mod sample_lanes;
 pub mod sequence;
 
 use crate::accel::World;
@@ -257,6 +258,38 @@ mod tests {
         scene
     }
 
+    /// The sampling a frame test renders with: the default (Gaussian spatial filter), box
+    /// filters (the packet path's samples in lanes), box filters with scrambled points.
+    #[derive(Clone, Copy, Debug)]
+    enum Filters {
+        Default,
+        Box,
+        BoxScrambled,
+    }
+
+    impl Filters {
+        fn sampling(self, spp: u32) -> SamplingConfig {
+            let boxed = SamplingConfig {
+                spp,
+                point_set: "sobol".parse().unwrap(),
+                time_filter: "box".parse().unwrap(),
+                spatial_filter: Some(crate::sampling::SpatialFilter::Box),
+                ..SamplingConfig::default()
+            };
+            match self {
+                Filters::Default => SamplingConfig {
+                    spp,
+                    ..SamplingConfig::default()
+                },
+                Filters::Box => boxed,
+                Filters::BoxScrambled => SamplingConfig {
+                    randomization: Some(crate::sampling::Randomization::Scramble),
+                    ..boxed
+                },
+            }
+        }
+    }
+
     #[test]
     fn packet_frames_equal_scalar_frames_bit_for_bit() {
         for (name, scene) in [
@@ -270,23 +303,29 @@ mod tests {
                     .small()
                     .is_some()
             );
-            for spp in [1, 3, 4, 5, 7, 8, 9, 16] {
-                let sampling = SamplingConfig {
-                    spp,
-                    ..SamplingConfig::default()
-                };
+            for (spp, filters) in [1, 3, 4, 5, 7, 8, 9, 16].into_iter().flat_map(|spp| {
+                [
+                    (spp, Filters::Default),
+                    (spp, Filters::Box),
+                    (spp, Filters::BoxScrambled),
+                ]
+            }) {
+                let sampling = filters.sampling(spp);
                 let render = |packets| {
                     render_frame_on(&scene, &sampling, 3, 1, &NoProgress, packets).unwrap()
                 };
                 let ((a, sa), (b, sb)) = (render(true), render(false));
-                assert_eq!(sa, sb, "{name}, spp {spp}");
+                assert_eq!(sa, sb, "{name}, spp {spp}, {filters:?}");
                 let bits = |f: &Film| -> Vec<[u32; 3]> {
                     f.pixels
                         .iter()
                         .map(|p| p.to_array().map(f32::to_bits))
                         .collect()
                 };
-                assert!(bits(&a) == bits(&b), "{name}, spp {spp}: the pixels differ");
+                assert!(
+                    bits(&a) == bits(&b),
+                    "{name}, spp {spp}, {filters:?}: the pixels differ"
+                );
                 assert!(sa.rays > sa.samples * 2, "shadow and mirror rays are cast");
             }
         }

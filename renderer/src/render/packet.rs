@@ -13,6 +13,7 @@
 //! pixel in sample order.
 
 use super::CameraRays;
+use super::sample_lanes::{FilmLanes, PlainSamples};
 use crate::accel::packet::{LANES, Lane, RayPacket, SmallWorld, dot, lane_mask};
 use crate::camera::CameraFrame;
 use crate::sampling::{FrameSampler, PixelSampler};
@@ -35,20 +36,27 @@ pub(super) fn packet_span(
     let spp = sampler.spp();
     let mut non_finite = 0;
     let mut lanes = CameraLanes::new(camera);
+    // A still camera's rays need no per-lane frame: plain samples stay in lanes throughout.
+    let plain = PlainSamples::new(sampler, camera.shutter).filter(|_| lanes.still);
     for (x, group) in (x0..).step_by(LANES).zip(span.chunks_mut(LANES)) {
         let pixels: [PixelSampler; LANES] =
             std::array::from_fn(|k| sampler.pixel(x + k.min(group.len() - 1) as u32, y));
+        let shift = PlainSamples::shifts(&pixels);
+        let columns = Lane::new(std::array::from_fn(|k| (x + k as u32) as f32 + 0.5));
         let mut sum = [Lane::ZERO; 3];
         for i in 0..spp {
-            let mut live = 0u32;
-            for (k, pixel) in pixels.iter().enumerate().take(group.len()) {
-                live |= u32::from(lanes.set(k, pixel, x + k as u32, y, i)) << k;
-            }
+            // Lanes outside `live` keep stale values: their results are never read.
+            let (packet, live) = match &plain {
+                Some(plain) => {
+                    let film = plain.sample(&shift, columns, y as f32 + 0.5, i);
+                    (lanes.packet(&film), (1 << group.len()) - 1)
+                }
+                None => lanes.set_all(&pixels[..group.len()], x, y, i),
+            };
             if live == 0 {
                 continue;
             }
-            // Lanes outside `live` keep stale values: their results are never read.
-            let l = tracer.radiance_packet(small, &lanes.packet(), live);
+            let l = tracer.radiance_packet(small, &packet, live);
             let finite = l[0].is_finite() & l[1].is_finite() & l[2].is_finite();
             let add = finite.to_bitmask() & live;
             non_finite += u64::from((live & !add).count_ones());
@@ -68,6 +76,8 @@ pub(super) fn packet_span(
 /// frame (set once for a still camera).
 struct CameraLanes<'a> {
     camera: &'a CameraRays<'a>,
+    /// The camera does not move: `frame` is set once.
+    still: bool,
     fx: [f32; LANES],
     fy: [f32; LANES],
     time: [f32; LANES],
@@ -79,6 +89,7 @@ impl<'a> CameraLanes<'a> {
     fn new(camera: &'a CameraRays<'a>) -> Self {
         let mut lanes = Self {
             camera,
+            still: !camera.camera.is_moving(),
             fx: [0.0; LANES],
             fy: [0.0; LANES],
             time: [0.0; LANES],
@@ -94,6 +105,21 @@ impl<'a> CameraLanes<'a> {
             }
         }
         lanes
+    }
+
+    /// Each lane `k` of `pixels` (pixel `(x + k, y)`) takes sample `i`: the packet, and its
+    /// live lanes.
+    fn set_all(&mut self, pixels: &[PixelSampler], x: u32, y: u32, i: usize) -> (RayPacket, u32) {
+        let mut live = 0u32;
+        for (k, pixel) in pixels.iter().enumerate() {
+            live |= u32::from(self.set(k, pixel, x + k as u32, y, i)) << k;
+        }
+        let film = FilmLanes {
+            fx: Lane::new(self.fx),
+            fy: Lane::new(self.fy),
+            time: Lane::new(self.time),
+        };
+        (self.packet(&film), live)
     }
 
     /// Lane `k` takes sample `i` of pixel `(x, y)` ([`CameraRays::ray`] up to the direction);
@@ -127,13 +153,13 @@ impl<'a> CameraLanes<'a> {
         }
     }
 
-    /// The lanes' rays: [`Projection::direction`](crate::camera::Projection::direction) in
-    /// lanes.
+    /// The lanes' rays through the film points `film` at its times:
+    /// [`Projection::direction`](crate::camera::Projection::direction) in lanes.
     #[inline]
-    fn packet(&self) -> RayPacket {
+    fn packet(&self, film: &FilmLanes) -> RayPacket {
         let p = &self.camera.projection;
         let two = Lane::splat(2.0);
-        let (fx, fy) = (Lane::new(self.fx), Lane::new(self.fy));
+        let (fx, fy) = (film.fx, film.fy);
         let sx = (two * fx * Lane::splat(p.inv_width) - Lane::ONE) * Lane::splat(p.half_width);
         let sy = (Lane::ONE - two * fy * Lane::splat(p.inv_height)) * Lane::splat(p.half_height);
         let [eye, forward, right, up] = self.frame.map(|v| v.map(Lane::new));
@@ -142,7 +168,7 @@ impl<'a> CameraLanes<'a> {
         RayPacket {
             origin: eye,
             dir: d.map(|c| c / length),
-            time: Lane::new(self.time),
+            time: film.time,
             t_max: Lane::splat(f32::INFINITY),
         }
     }

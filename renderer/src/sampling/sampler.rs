@@ -36,8 +36,8 @@ pub struct FrameSampler {
     shift_key: u64,
     /// Set under `randomization: scramble` for sets that have a per-pixel scramble.
     scramble: Option<Scrambled>,
-    spatial: SpatialWarp,
-    time: TimeFilter,
+    pub(crate) spatial: SpatialWarp,
+    pub(crate) time: TimeFilter,
 }
 
 /// A frame whose pixels each scramble the set on their own (`crate::sampling::scramble`).
