@@ -142,7 +142,7 @@ impl FrameSampler {
 
     /// Pixel (x, y): hash its shift (or scramble keys) once, then ask it for each sample
     /// (cheaper than [`FrameSampler::sample`] per sample).
-    #[inline]
+    #[inline(always)]
     pub fn pixel(&self, x: u32, y: u32) -> PixelSampler<'_> {
         match &self.scramble {
             None => PixelSampler {
