@@ -55,6 +55,9 @@ struct SmallShape {
     kind: Kind,
     pose: SmallPose,
     material: u32,
+    /// A plane's world normal, the same for every point: worked out once, by the lane code
+    /// (so to the bit what each lane would compute).
+    plane_normal: [f32; 3],
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -93,6 +96,17 @@ impl SmallPose {
             matrix: (!p.unturned).then_some(p.object_from_world),
             transposed: p.object_from_world.transpose(),
         })
+    }
+
+    /// The unit world-space normal of the object-space normal `local`: through the inverse
+    /// transpose, normalised, as [`World::intersect`] does it.
+    #[inline(always)]
+    fn world_normal(&self, local: [Lane; 3]) -> [Lane; 3] {
+        let world = match self.matrix {
+            None => local,
+            Some(_) => mul(&self.transposed, local),
+        };
+        normalize_or_zero(world)
     }
 
     /// The packet's rays in object space: `(origin, dir)` per axis.
@@ -289,18 +303,13 @@ impl SmallShape {
     /// through the inverse transpose, normalised, as [`World::intersect`] does it.
     #[inline(always)]
     fn world_normal(&self, ray: &RayPacket, t: Lane) -> [Lane; 3] {
-        let local = match self.kind {
+        match self.kind {
             Kind::Sphere { .. } => {
                 let (o, d) = self.pose.ray_to_object(ray);
-                point_at(&o, &d, t)
+                self.pose.world_normal(point_at(&o, &d, t))
             }
-            Kind::Plane { .. } => [Lane::ZERO, Lane::ONE, Lane::ZERO],
-        };
-        let world = match self.pose.matrix {
-            None => local,
-            Some(_) => mul(&self.pose.transposed, local),
-        };
-        normalize_or_zero(world)
+            Kind::Plane { .. } => self.plane_normal.map(Lane::splat),
+        }
     }
 
     /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none; only the lanes of `active`
@@ -333,10 +342,13 @@ impl SmallWorld {
                     },
                     Shape::Mesh(_) => return None,
                 };
+                let pose = SmallPose::new(pose)?;
+                let y = pose.world_normal([Lane::ZERO, Lane::ONE, Lane::ZERO]);
                 Some(SmallShape {
                     kind,
-                    pose: SmallPose::new(pose)?,
+                    pose,
                     material: instance.material,
+                    plane_normal: y.map(|c| c.as_array()[0]),
                 })
             })
             .collect::<Option<Vec<_>>>()?;
