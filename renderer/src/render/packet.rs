@@ -1,7 +1,8 @@
 //! Tracing a row [`LANES`] pixels at a time, for worlds with a packet form ([`SmallWorld`]):
 //! lane `k` traces the samples of pixel `k` of the group and keeps its sum, so the pixels'
 //! sums add in lanes with no serial chain through memory. The camera rays are made straight
-//! in the lanes of a [`RayPacket`] (each lane's sample lookup and shutter time are scalar; the
+//! in the lanes of a [`RayPacket`] (the samples too where they are plain arithmetic,
+//! [`super::sample_lanes`], else each lane's sample lookup and shutter time are scalar; the
 //! direction through the film point, and its normalisation, are done for all lanes at once)
 //! and shaded by [`Tracer::radiance_packet`], which answers in lanes too. No ray or radiance
 //! is ever laid out one at a time.
