@@ -118,10 +118,10 @@ impl Camera {
 /// Image position to ray direction for one image size.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Projection {
-    half_width: f32,
-    half_height: f32,
-    inv_width: f32,
-    inv_height: f32,
+    pub(crate) half_width: f32,
+    pub(crate) half_height: f32,
+    pub(crate) inv_width: f32,
+    pub(crate) inv_height: f32,
 }
 
 impl Projection {

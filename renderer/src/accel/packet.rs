@@ -55,6 +55,9 @@ struct SmallShape {
     kind: Kind,
     pose: SmallPose,
     material: u32,
+    /// A plane's world normal, the same for every point: worked out once, by the lane code
+    /// (so to the bit what each lane would compute).
+    plane_normal: [f32; 3],
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -95,6 +98,17 @@ impl SmallPose {
         })
     }
 
+    /// The unit world-space normal of the object-space normal `local`: through the inverse
+    /// transpose, normalised, as [`World::intersect`] does it.
+    #[inline(always)]
+    fn world_normal(&self, local: [Lane; 3]) -> [Lane; 3] {
+        let world = match self.matrix {
+            None => local,
+            Some(_) => mul(&self.transposed, local),
+        };
+        normalize_or_zero(world)
+    }
+
     /// The packet's rays in object space: `(origin, dir)` per axis.
     #[inline(always)]
     fn ray_to_object(&self, ray: &RayPacket) -> ([Lane; 3], [Lane; 3]) {
@@ -129,8 +143,15 @@ fn mul(m: &Mat3A, v: [Lane; 3]) -> [Lane; 3] {
 
 /// glam's SSE2 `Vec3A::dot`, lane by lane.
 #[inline(always)]
-fn dot(a: &[Lane; 3], b: &[Lane; 3]) -> Lane {
+pub(crate) fn dot(a: &[Lane; 3], b: &[Lane; 3]) -> Lane {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// All bits set in the lanes of `bits` (bit `i` for lane `i`), clear in the others.
+#[inline(always)]
+pub(crate) fn lane_mask(bits: u32) -> Lane {
+    let bit = wide::i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
+    wide::bytemuck::cast((wide::i32x8::splat(bits as i32) & bit).simd_eq(bit))
 }
 
 /// `f32::min` / `f32::max` lane by lane where it matters: a NaN operand gives the other one.
@@ -147,10 +168,10 @@ fn min_max(a: Lane, b: Lane) -> (Lane, Lane) {
 /// traced here all have `t_min = 0`).
 #[derive(Clone, Copy, Debug)]
 pub struct RayPacket {
-    origin: [Lane; 3],
-    dir: [Lane; 3],
-    time: Lane,
-    t_max: Lane,
+    pub(crate) origin: [Lane; 3],
+    pub(crate) dir: [Lane; 3],
+    pub(crate) time: Lane,
+    pub(crate) t_max: Lane,
 }
 
 impl RayPacket {
@@ -179,16 +200,36 @@ impl RayPacket {
             t_max: Lane::new(rays.each_ref().map(|r| r.t_max)),
         }
     }
+
+    /// Lane `i` as a ray (for the lanes the scalar path takes).
+    pub(crate) fn lane(&self, i: usize) -> Ray {
+        let v =
+            |c: &[Lane; 3]| Vec3A::new(c[0].as_array()[i], c[1].as_array()[i], c[2].as_array()[i]);
+        Ray {
+            origin: v(&self.origin),
+            dir: v(&self.dir),
+            time: self.time.as_array()[i],
+            t_min: 0.0,
+            t_max: self.t_max.as_array()[i],
+        }
+    }
 }
 
 /// The nearest sphere root in `(0, t_max)` per lane ([`crate::geometry::Sphere::closest`]'s
-/// arithmetic), `+inf` where there is none.
+/// arithmetic), `+inf` where there is none; only the lanes of `active` need be right.
 #[inline(always)]
-fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) -> Lane {
+fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -> Lane {
     let r = Lane::splat(radius);
-    let a = dot(d, d);
     let half_b = dot(o, d);
     let c = dot(o, o) - Lane::splat(radius * radius);
+    // Outside (c > 0) and moving away (half_b > 0): q = -(half_b + sqrt(disc)) < 0, so both
+    // roots, q / a and c / q, are negative or -0 and neither is above 0. If every active lane
+    // is so, skip the division and the square roots (a shadow ray leaving the sphere).
+    let away = c.simd_gt(Lane::ZERO) & half_b.simd_gt(Lane::ZERO);
+    if active & !away.to_bitmask() == 0 {
+        return Lane::splat(f32::INFINITY);
+    }
+    let a = dot(d, d);
     let k = half_b / a;
     let foot: [Lane; 3] = std::array::from_fn(|i| o[i] - d[i] * k);
     let f = dot(&foot, &foot).sqrt();
@@ -211,9 +252,18 @@ fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) -> Lane {
 }
 
 /// The plane y = 0 per lane ([`crate::geometry::Plane::closest`]'s arithmetic), `+inf` where
-/// it is missed.
+/// it is missed; only the lanes of `active` need be right.
 #[inline(always)]
-fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) -> Lane {
+fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -> Lane {
+    // t = -o.y / d.y is above 0 only where o.y and d.y are non-zero with opposite signs
+    // (else it is negative, a zero or NaN): if no active lane is so, skip the division (a
+    // shadow ray leaving the plane, a camera ray looking up).
+    let (oy, dy) = (o[1], d[1]);
+    let towards = (oy.simd_lt(Lane::ZERO) & dy.simd_gt(Lane::ZERO))
+        | (oy.simd_gt(Lane::ZERO) & dy.simd_lt(Lane::ZERO));
+    if active & towards.to_bitmask() == 0 {
+        return Lane::splat(f32::INFINITY);
+    }
     let t = -o[1] / d[1];
     // A zero d.y gives an infinite or NaN t, which fails the range test anyway.
     let mut ok = d[1].simd_ne(Lane::ZERO) & t.simd_gt(Lane::ZERO) & t.simd_lt(t_max);
@@ -227,7 +277,7 @@ fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane) ->
 
 /// `o + d t` lane by lane ([`Ray::at`]).
 #[inline(always)]
-fn point_at(o: &[Lane; 3], d: &[Lane; 3], t: Lane) -> [Lane; 3] {
+pub(crate) fn point_at(o: &[Lane; 3], d: &[Lane; 3], t: Lane) -> [Lane; 3] {
     std::array::from_fn(|k| o[k] + d[k] * t)
 }
 
@@ -253,27 +303,23 @@ impl SmallShape {
     /// through the inverse transpose, normalised, as [`World::intersect`] does it.
     #[inline(always)]
     fn world_normal(&self, ray: &RayPacket, t: Lane) -> [Lane; 3] {
-        let local = match self.kind {
+        match self.kind {
             Kind::Sphere { .. } => {
                 let (o, d) = self.pose.ray_to_object(ray);
-                point_at(&o, &d, t)
+                self.pose.world_normal(point_at(&o, &d, t))
             }
-            Kind::Plane { .. } => [Lane::ZERO, Lane::ONE, Lane::ZERO],
-        };
-        let world = match self.pose.matrix {
-            None => local,
-            Some(_) => mul(&self.pose.transposed, local),
-        };
-        normalize_or_zero(world)
+            Kind::Plane { .. } => self.plane_normal.map(Lane::splat),
+        }
     }
 
-    /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none.
+    /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none; only the lanes of `active`
+    /// need be right.
     #[inline(always)]
-    fn closest(&self, ray: &RayPacket) -> Lane {
+    fn closest(&self, ray: &RayPacket, active: u32) -> Lane {
         let (o, d) = self.pose.ray_to_object(ray);
         match self.kind {
-            Kind::Sphere { radius } => sphere(radius, &o, &d, ray.t_max),
-            Kind::Plane { half_extent } => plane(half_extent, &o, &d, ray.t_max),
+            Kind::Sphere { radius } => sphere(radius, &o, &d, ray.t_max, active),
+            Kind::Plane { half_extent } => plane(half_extent, &o, &d, ray.t_max, active),
         }
     }
 }
@@ -296,10 +342,13 @@ impl SmallWorld {
                     },
                     Shape::Mesh(_) => return None,
                 };
+                let pose = SmallPose::new(pose)?;
+                let y = pose.world_normal([Lane::ZERO, Lane::ONE, Lane::ZERO]);
                 Some(SmallShape {
                     kind,
-                    pose: SmallPose::new(pose)?,
+                    pose,
                     material: instance.material,
+                    plane_normal: y.map(|c| c.as_array()[0]),
                 })
             })
             .collect::<Option<Vec<_>>>()?;
@@ -326,10 +375,7 @@ impl SmallWorld {
         let mut scalar = live & !simple;
         if simple != 0 {
             let packet = RayPacket::of(rays, simple);
-            let mut nearest = Nearest::new();
-            for (i, shape) in self.shapes.iter().enumerate() {
-                nearest.add(shape.closest(&packet), i as u32);
-            }
+            let nearest = self.nearest(&packet, simple);
             scalar |= self.surfaces(&packet, &nearest, simple, &mut out);
         }
         for (i, slot) in out.iter_mut().enumerate() {
@@ -351,19 +397,20 @@ impl SmallWorld {
         out: &mut [Option<SurfaceHit>; LANES],
     ) -> u32 {
         let tie = simple & nearest.tie.to_bitmask();
-        let hit = nearest.t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask();
+        let hit = nearest.hit();
         let mut pending = simple & !tie & hit;
         if pending == 0 {
             return tie;
         }
         let t = nearest.t.to_array();
+        let instances = nearest.instance.to_array().map(|i| i as u32);
         let point = lanes_of(&point_at(&ray.origin, &ray.dir, nearest.t));
         while pending != 0 {
-            let instance = nearest.instance[pending.trailing_zeros() as usize];
+            let instance = instances[pending.trailing_zeros() as usize];
             let shape = &self.shapes[instance as usize];
             let normal = lanes_of(&shape.world_normal(ray, nearest.t));
             for (i, slot) in out.iter_mut().enumerate() {
-                if pending & (1 << i) != 0 && nearest.instance[i] == instance {
+                if pending & (1 << i) != 0 && instances[i] == instance {
                     *slot = Some(SurfaceHit {
                         t: t[i],
                         point: point[i],
@@ -382,19 +429,10 @@ impl SmallWorld {
     /// [`World::occluded`] for each live lane (bit `i` of `live`); `false` for the others.
     pub fn occluded_lanes(&self, world: &World, rays: &[Ray; LANES], live: u32) -> [bool; LANES] {
         let simple = Self::simple_lanes(world, rays, live);
-        let mut blocked = 0;
-        if simple != 0 {
-            let packet = RayPacket::of(rays, simple);
-            for shape in &self.shapes {
-                blocked |= shape
-                    .closest(&packet)
-                    .simd_lt(Lane::splat(f32::INFINITY))
-                    .to_bitmask();
-                if blocked & simple == simple {
-                    break;
-                }
-            }
-        }
+        let blocked = match simple {
+            0 => 0,
+            _ => self.blocked(&RayPacket::of(rays, simple), simple),
+        };
         std::array::from_fn(|i| {
             if live & (1 << i) == 0 {
                 false
@@ -404,6 +442,64 @@ impl SmallWorld {
                 blocked & (1 << i) != 0
             }
         })
+    }
+}
+
+/// The packet API: rays that stay in lanes from the camera to the shadow test.
+impl SmallWorld {
+    /// The lanes of `live` (bit `i` for lane `i`) whose ray this form traces as the scalar
+    /// path does: [`simple`] in lanes (every packet ray has `t_min = 0`).
+    #[inline(always)]
+    pub(crate) fn simple_packet(world: &World, ray: &RayPacket, live: u32) -> u32 {
+        let finite = |v: &[Lane; 3]| v[0].is_finite() & v[1].is_finite() & v[2].is_finite();
+        let d = &ray.dir;
+        let zero = d[0].simd_eq(Lane::ZERO) & d[1].simd_eq(Lane::ZERO) & d[2].simd_eq(Lane::ZERO);
+        let (t0, t1) = world.shutter();
+        let in_shutter = ray.time.simd_ge(Lane::splat(t0)) & ray.time.simd_le(Lane::splat(t1));
+        let t_max_ok = ray.t_max.simd_eq(ray.t_max);
+        let ok = finite(&ray.origin) & finite(d) & in_shutter & t_max_ok;
+        ok.to_bitmask() & !zero.to_bitmask() & live
+    }
+
+    /// Each lane's nearest hit over every instance, right for the lanes of `simple` (from
+    /// [`SmallWorld::simple_packet`]).
+    #[inline]
+    pub(crate) fn nearest(&self, ray: &RayPacket, simple: u32) -> Nearest {
+        let mut nearest = Nearest::new();
+        for (i, shape) in self.shapes.iter().enumerate() {
+            nearest.add(shape.closest(ray, simple), i as u32);
+        }
+        nearest
+    }
+
+    /// The materials of the instances, in instance order.
+    pub(crate) fn materials(&self) -> impl Iterator<Item = u32> + '_ {
+        self.shapes.iter().map(|s| s.material)
+    }
+
+    /// The unit world-space normal of instance `i` at parameter `t` of each lane's ray, as
+    /// [`World::intersect`] gives it (geometric and shading normal alike).
+    #[inline]
+    pub(crate) fn normal(&self, i: usize, ray: &RayPacket, t: Lane) -> [Lane; 3] {
+        self.shapes[i].world_normal(ray, t)
+    }
+
+    /// [`World::occluded`] for the lanes of `simple` (from [`SmallWorld::simple_packet`]):
+    /// the lanes blocked.
+    #[inline]
+    pub(crate) fn blocked(&self, ray: &RayPacket, simple: u32) -> u32 {
+        let mut blocked = 0;
+        for shape in &self.shapes {
+            // Only the lanes not yet blocked need an answer.
+            blocked |= shape
+                .closest(ray, simple & !blocked)
+                .simd_lt(Lane::splat(f32::INFINITY))
+                .to_bitmask();
+            if blocked & simple == simple {
+                break;
+            }
+        }
+        blocked & simple
     }
 }
 
@@ -419,12 +515,13 @@ fn simple(world: &World, ray: &Ray) -> bool {
         & !ray.t_max.is_nan()
 }
 
-/// The running nearest hit per lane: its `t` (`+inf` for none), its instance, and whether
-/// another instance gave exactly the same `t`.
-struct Nearest {
-    t: Lane,
-    tie: Lane,
-    instance: [u32; LANES],
+/// The running nearest hit per lane: its `t` (`+inf` for none), its instance (an index, as
+/// an `f32`: exact, and compared in lanes), and whether another instance gave exactly the
+/// same `t`.
+pub(crate) struct Nearest {
+    pub(crate) t: Lane,
+    pub(crate) tie: Lane,
+    pub(crate) instance: Lane,
 }
 
 impl Nearest {
@@ -432,7 +529,7 @@ impl Nearest {
         Self {
             t: Lane::splat(f32::INFINITY),
             tie: Lane::ZERO,
-            instance: [0; LANES],
+            instance: Lane::ZERO,
         }
     }
 
@@ -442,14 +539,19 @@ impl Nearest {
         let same = t.simd_eq(self.t) & t.simd_lt(Lane::splat(f32::INFINITY));
         self.tie = closer.bitselect(Lane::ZERO, self.tie) | same;
         self.t = closer.bitselect(t, self.t);
-        let mask = closer.to_bitmask();
-        if mask != 0 {
-            for (i, slot) in self.instance.iter_mut().enumerate() {
-                if mask & (1 << i) != 0 {
-                    *slot = instance;
-                }
-            }
-        }
+        self.instance = closer.bitselect(Lane::splat(instance as f32), self.instance);
+    }
+
+    /// The lanes whose nearest hit is instance `i`'s (whether or not they hit at all).
+    #[inline(always)]
+    pub(crate) fn is(&self, i: usize) -> Lane {
+        self.instance.simd_eq(Lane::splat(i as f32))
+    }
+
+    /// The lanes (bit `i` for lane `i`) that hit something.
+    #[inline(always)]
+    pub(crate) fn hit(&self) -> u32 {
+        self.t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask()
     }
 }
 
@@ -648,6 +750,14 @@ mod tests {
                 let all = (1u32 << LANES) - 1;
                 let live = (d.pick(u64::from(all) + 1) as u32) | if g % 2 == 0 { all } else { 0 };
                 let got = small.intersect_lanes(&world, &rays, live);
+                // The packet API's test in lanes (for its rays: `t_min = 0`).
+                let packet_rays =
+                    (0..LANES).fold(0, |m, i| m | u32::from(rays[i].t_min == 0.0) << i);
+                assert_eq!(
+                    SmallWorld::simple_packet(&world, &RayPacket::new(&rays), live) & packet_rays,
+                    SmallWorld::simple_lanes(&world, &rays, live) & packet_rays,
+                    "world {w}, group {g}"
+                );
                 let occ = small.occluded_lanes(&world, &rays, live);
                 for i in 0..LANES {
                     if live & (1 << i) == 0 {

@@ -112,6 +112,11 @@ impl World {
         self.poses.iter().all(PoseOverTime::is_fixed)
     }
 
+    /// The shutter interval the top level was built for.
+    pub(super) fn shutter(&self) -> (f32, f32) {
+        self.shutter
+    }
+
     /// Whether the ray's time lies in the shutter interval the top level was built for.
     #[inline]
     pub(super) fn in_shutter(&self, ray: &Ray) -> bool {

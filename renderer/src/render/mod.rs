@@ -3,11 +3,13 @@
 //! (seed, frame) and the pixel, and its samples are summed in a fixed order, so the bytes are
 //! the same whatever the thread count or the order tiles finish in.
 
+mod packet;
 pub mod pipeline;
+mod sample_lanes;
 pub mod sequence;
 
 use crate::accel::World;
-use crate::accel::packet::{LANES, SmallWorld};
+use crate::accel::packet::SmallWorld;
 use crate::camera::{Camera, Projection};
 use crate::film::Film;
 use crate::geometry::Ray;
@@ -17,7 +19,7 @@ use crate::sampling::{FrameSampler, SamplingConfig};
 use crate::scene::Scene;
 use crate::shading::Tracer;
 use anyhow::Result;
-use glam::{Vec3, Vec3A};
+use glam::Vec3;
 use rayon::prelude::*;
 
 /// Counts from one frame.
@@ -57,7 +59,7 @@ pub fn render_frame(
     render_frame_on(scene, sampling, seed, frame, progress, true)
 }
 
-/// [`render_frame`], tracing [`LANES`] samples at once where the world allows it
+/// [`render_frame`], tracing [`LANES`](crate::accel::packet::LANES) samples at once where the world allows it
 /// ([`World::small`]) only if `packets`; the scalar path gives the same bytes (the tests
 /// compare the two).
 pub(crate) fn render_frame_on(
@@ -131,7 +133,7 @@ fn render_span(
     };
     let spp = sampler.spp();
     let non_finite = match small {
-        Some(small) => packet_span(tracer, small, sampler, &camera, x0, y, span),
+        Some(small) => packet::packet_span(tracer, small, sampler, &camera, x0, y, span),
         None => scalar_span(tracer, sampler, &camera, x0, y, span),
     };
     ((span.len() * spp) as u64, non_finite)
@@ -187,58 +189,6 @@ fn scalar_span(
     non_finite
 }
 
-/// [`LANES`] rays at a time: the span's samples, pixel by pixel and each pixel's in order
-/// 0..spp, taken [`LANES`] at a time (so a small spp fills the lanes too, from neighbouring
-/// pixels); each lane's
-/// radiance is added to its own pixel, so every pixel's sum adds the same terms in the same
-/// order as [`scalar_span`]. Returns the number of samples that were not finite.
-fn packet_span(
-    tracer: &Tracer,
-    small: &SmallWorld,
-    sampler: &FrameSampler,
-    camera: &CameraRays,
-    x0: u32,
-    y: u32,
-    span: &mut [Vec3],
-) -> u64 {
-    let spp = sampler.spp();
-    let n = span.len() * spp;
-    span.fill(Vec3::ZERO);
-    let mut non_finite = 0;
-    let mut rays = [Ray::new(Vec3A::ZERO, Vec3A::ZERO, 0.0); LANES];
-    let mut owner = [0usize; LANES];
-    let mut pixel = (0, sampler.pixel(x0, y));
-    for first in (0..n).step_by(LANES) {
-        let mut live = 0u32;
-        for (k, j) in (first..n.min(first + LANES)).enumerate() {
-            let p = j / spp;
-            if p != pixel.0 {
-                pixel = (p, sampler.pixel(x0 + p as u32, y));
-            }
-            if let Some(r) = camera.ray(&pixel.1, x0 + p as u32, y, j % spp) {
-                (rays[k], owner[k]) = (r, p);
-                live |= 1 << k;
-            }
-        }
-        if live == 0 {
-            continue;
-        }
-        // Lanes outside `live` keep stale rays: the packet code never computes with them.
-        let l = tracer.radiance_lanes(small, &rays, live);
-        for k in (0..LANES).filter(|k| live & (1 << k) != 0) {
-            if l[k].is_finite() {
-                span[owner[k]] += l[k];
-            } else {
-                non_finite += 1;
-            }
-        }
-    }
-    for p in span.iter_mut() {
-        *p /= spp as f32;
-    }
-    non_finite
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -247,7 +197,8 @@ mod tests {
     use std::path::Path;
 
     /// Spheres (moving, turned and scaled, mirror-like) over a rectangle and an infinite plane,
-    /// a point and a directional light, a moving camera: every kind of work the packet path does.
+    /// a rectangle seen from its back, a point and a directional light, a moving camera: every
+    /// kind of work the packet path does.
     fn small_scene() -> Scene {
         let v = json!({
             "format": "blurlab-scene/1",
@@ -267,6 +218,8 @@ mod tests {
                  "location": [0.2, 0.3, 1]},
                 {"name": "rug", "type": "plane", "material": "m", "half_extent": [1, 0.7],
                  "location": [0, 0.01, 0.5]},
+                {"name": "wall", "type": "plane", "material": "shiny", "half_extent": [0.6, 0.5],
+                 "location": [-1.6, 0.8, -0.8], "rotation": [-80, 20, 0]},
                 {"name": "floor", "type": "plane", "material": "floor"}
             ],
             "lights": [
@@ -281,32 +234,100 @@ mod tests {
         Scene::from_json(&v.to_string(), Path::new("small.json")).unwrap()
     }
 
-    #[test]
-    fn packet_frames_equal_scalar_frames_bit_for_bit() {
-        let scene = small_scene();
-        let shutter = scene.settings.shutter(1);
-        assert!(
-            World::build(scene.instances.clone(), shutter)
-                .small()
-                .is_some()
-        );
-        for spp in [1, 3, 4, 5, 7, 8, 9, 16] {
-            let sampling = SamplingConfig {
+    /// [`small_scene`] with a still camera (its frame set once), a mirror-like floor and a
+    /// small environment map that misses and reflections see.
+    fn still_scene_under_a_sky() -> Scene {
+        let mut scene = small_scene();
+        let c = &scene.camera;
+        let still = |m: crate::camera::Moving| crate::camera::Moving::still(m.at_zero);
+        scene.camera = Camera::new(
+            still(c.location),
+            still(c.look_at),
+            still(c.up),
+            c.fov_degrees,
+        )
+        .unwrap();
+        let floor = scene.materials.len() - 1;
+        scene.materials[floor] = scene.materials[0];
+        let (w, h) = (8, 4);
+        let texels = (0..w * h)
+            .map(|i| Vec3::new(i as f32 * 0.1, 0.5, 1.0 / (1.0 + i as f32)))
+            .collect();
+        let (env, _) = crate::environment::Environment::new(w, h, texels, 1.5, 30.0);
+        scene.environment = Some(std::sync::Arc::new(env));
+        scene
+    }
+
+    /// The sampling a frame test renders with: the default (Gaussian spatial filter), box
+    /// filters (the packet path's samples in lanes), box filters with scrambled points.
+    #[derive(Clone, Copy, Debug)]
+    enum Filters {
+        Default,
+        Box,
+        BoxScrambled,
+    }
+
+    impl Filters {
+        fn sampling(self, spp: u32) -> SamplingConfig {
+            let boxed = SamplingConfig {
                 spp,
+                point_set: "sobol".parse().unwrap(),
+                time_filter: "box".parse().unwrap(),
+                spatial_filter: Some(crate::sampling::SpatialFilter::Box),
                 ..SamplingConfig::default()
             };
-            let render =
-                |packets| render_frame_on(&scene, &sampling, 3, 1, &NoProgress, packets).unwrap();
-            let ((a, sa), (b, sb)) = (render(true), render(false));
-            assert_eq!(sa, sb, "spp {spp}");
-            let bits = |f: &Film| -> Vec<[u32; 3]> {
-                f.pixels
-                    .iter()
-                    .map(|p| p.to_array().map(f32::to_bits))
-                    .collect()
-            };
-            assert!(bits(&a) == bits(&b), "spp {spp}: the pixels differ");
-            assert!(sa.rays > sa.samples * 2, "shadow and mirror rays are cast");
+            match self {
+                Filters::Default => SamplingConfig {
+                    spp,
+                    ..SamplingConfig::default()
+                },
+                Filters::Box => boxed,
+                Filters::BoxScrambled => SamplingConfig {
+                    randomization: Some(crate::sampling::Randomization::Scramble),
+                    ..boxed
+                },
+            }
+        }
+    }
+
+    #[test]
+    fn packet_frames_equal_scalar_frames_bit_for_bit() {
+        for (name, scene) in [
+            ("moving camera", small_scene()),
+            ("still camera, sky", still_scene_under_a_sky()),
+        ] {
+            assert_eq!(scene.camera.is_moving(), name == "moving camera");
+            let shutter = scene.settings.shutter(1);
+            assert!(
+                World::build(scene.instances.clone(), shutter)
+                    .small()
+                    .is_some()
+            );
+            for (spp, filters) in [1, 3, 4, 5, 7, 8, 9, 16].into_iter().flat_map(|spp| {
+                [
+                    (spp, Filters::Default),
+                    (spp, Filters::Box),
+                    (spp, Filters::BoxScrambled),
+                ]
+            }) {
+                let sampling = filters.sampling(spp);
+                let render = |packets| {
+                    render_frame_on(&scene, &sampling, 3, 1, &NoProgress, packets).unwrap()
+                };
+                let ((a, sa), (b, sb)) = (render(true), render(false));
+                assert_eq!(sa, sb, "{name}, spp {spp}, {filters:?}");
+                let bits = |f: &Film| -> Vec<[u32; 3]> {
+                    f.pixels
+                        .iter()
+                        .map(|p| p.to_array().map(f32::to_bits))
+                        .collect()
+                };
+                assert!(
+                    bits(&a) == bits(&b),
+                    "{name}, spp {spp}, {filters:?}: the pixels differ"
+                );
+                assert!(sa.rays > sa.samples * 2, "shadow and mirror rays are cast");
+            }
         }
     }
 }

@@ -36,8 +36,8 @@ pub struct FrameSampler {
     shift_key: u64,
     /// Set under `randomization: scramble` for sets that have a per-pixel scramble.
     scramble: Option<Scrambled>,
-    spatial: SpatialWarp,
-    time: TimeFilter,
+    pub(crate) spatial: SpatialWarp,
+    pub(crate) time: TimeFilter,
 }
 
 /// A frame whose pixels each scramble the set on their own (`crate::sampling::scramble`).
@@ -142,7 +142,7 @@ impl FrameSampler {
 
     /// Pixel (x, y): hash its shift (or scramble keys) once, then ask it for each sample
     /// (cheaper than [`FrameSampler::sample`] per sample).
-    #[inline]
+    #[inline(always)]
     pub fn pixel(&self, x: u32, y: u32) -> PixelSampler<'_> {
         match &self.scramble {
             None => PixelSampler {
@@ -200,7 +200,7 @@ impl PixelSampler<'_> {
     }
 
     /// Sample `i` (< spp): point i, shifted with wrap-around (or scrambled), then warped.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, i: usize) -> PixelSample {
         let [u, v, t] = self.point(i);
         let (dx, dy) = self.frame.spatial.offset(u, v);

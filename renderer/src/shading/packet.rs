@@ -1,79 +1,121 @@
-//! Shading [`LANES`] camera rays at once, for worlds with a packet form
-//! ([`crate::accel::packet::SmallWorld`]): the primary rays go through
-//! [`SmallWorld::intersect_lanes`](crate::accel::packet::SmallWorld::intersect_lanes)
-//! together, and for each light the lanes' shadow rays through `occluded_lanes` together, so
-//! the latency of one lane's square roots and divisions hides behind the others'.
+//! Shading [`LANES`] camera rays at once, in lanes, for worlds with a packet form
+//! ([`SmallWorld`]). The rays arrive as a [`RayPacket`] and stay in lanes: the nearest hits,
+//! the normals turned towards the viewer, each light's sample, the shadow rays (tested
+//! together by [`SmallWorld::blocked`]) and the Lambert and Phong terms are computed for all
+//! lanes at once, so the latency of one lane's square roots and divisions hides behind the
+//! others' and no lane pays for moving its data between vector layouts.
 //!
-//! Each lane's radiance is [`Tracer::radiance`]'s to the bit: the same scalar code prepares
-//! every shadow ray and shades every hit ([`Surface::new`], [`shadow_ray`], [`lit_by`]), the
-//! per-lane sums add the same terms in the same order (ambient, then each light in scene
-//! order, then the reflection: [`Tracer::combine`]), and the ray count grows by the same rays. Reflections take
-//! the scalar path per lane.
+//! Each lane's radiance is [`Tracer::radiance`]'s to the bit: every lane does the scalar
+//! code's f32 operations ([`Surface::new`], [`shadow_ray`](super::shadow_ray),
+//! [`lit_by`](super::lit_by), [`SurfaceHit::spawn_point`], [`Light::sample`]) in the scalar
+//! order, the sums add the same terms in the same order (ambient, then each light in scene
+//! order, then the reflection: [`Tracer::combine`]), and the ray count grows by the same rays.
+//! What the lanes do not do, a lane hands to the scalar code: a ray the packet form cannot
+//! trace (see [`crate::accel::packet`]) is traced by [`Tracer::radiance`], a shadow ray by
+//! [`World::occluded`](crate::accel::World::occluded), a mirror reflection by
+//! [`Tracer::reflection`], a miss's environment by [`Tracer::background`], and the Phong lobe's
+//! `powf` per lane.
 
-use super::{Surface, Tracer, lit_by, shadow_ray};
-use crate::accel::packet::{LANES, SmallWorld};
-use crate::geometry::Ray;
-use crate::light::LightSample;
-use glam::Vec3;
+use super::{Surface, Tracer, phong};
+use crate::accel::SurfaceHit;
+use crate::accel::packet::{LANES, Lane, Nearest, RayPacket, SmallWorld, dot, lane_mask, point_at};
+use crate::light::Light;
+use crate::material::Material;
+use glam::{Vec3, Vec3A};
+
+/// A vector per lane.
+pub type V3 = [Lane; 3];
 
 impl Tracer<'_> {
-    /// [`Tracer::radiance`]`(rays[i], 0)` for each lane `i` whose bit is set in `live` (the
-    /// others give zero and cast nothing). The world must have a packet form.
-    pub fn radiance_lanes(
-        &self,
-        small: &SmallWorld,
-        rays: &[Ray; LANES],
-        live: u32,
-    ) -> [Vec3; LANES] {
-        self.count(live);
-        let hits = small.intersect_lanes(self.world, rays, live);
-        let surfaces: [Option<Surface>; LANES] =
-            std::array::from_fn(|i| Some(Surface::new(self.scene, &rays[i], hits[i].as_ref()?)));
-        let direct = self.direct_lanes(small, rays, &surfaces);
-        std::array::from_fn(|i| match &surfaces[i] {
-            Some(s) => self.combine(&rays[i], s, 0, || direct[i]),
-            None if live & (1 << i) != 0 => self.background(rays[i].dir),
-            None => Vec3::ZERO,
-        })
+    /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` whose bit is set in `live`, in
+    /// lanes (the others' values are not to be read; they cast nothing). `small` must be the
+    /// world's packet form.
+    pub fn radiance_packet(&self, small: &SmallWorld, ray: &RayPacket, live: u32) -> V3 {
+        let simple = SmallWorld::simple_packet(self.world, ray, live);
+        let nearest = small.nearest(ray, simple);
+        // A tie between instances is the scalar path's to break.
+        let packet = simple & !nearest.tie.to_bitmask();
+        self.count(packet);
+        let hit = packet & nearest.hit();
+        let mut out = match hit {
+            0 => [Lane::ZERO; 3],
+            _ => self.shade_packet(small, ray, &nearest, hit),
+        };
+        if self.scene.environment.is_some() {
+            for i in lanes(packet & !hit) {
+                set(&mut out, i, self.background(ray.lane(i).dir));
+            }
+        }
+        for i in lanes(live & !packet) {
+            set(&mut out, i, self.radiance(&ray.lane(i), 0));
+        }
+        out
     }
 
-    /// [`Tracer::direct`] for the lanes with a lit surface: per light, the lanes' shadow rays
-    /// are tested together.
-    fn direct_lanes(
-        &self,
-        small: &SmallWorld,
-        rays: &[Ray; LANES],
-        surfaces: &[Option<Surface>; LANES],
-    ) -> [Vec3; LANES] {
-        let mut sum = [Vec3::ZERO; LANES];
-        // Filled in place per light (lanes outside `live` keep stale rays, never read).
-        let mut shadows = *rays;
-        let mut samples: [Option<(LightSample, f32)>; LANES] = [None; LANES];
+    /// [`Tracer::shade`] at depth 0 for the lanes of `hit` (zero in the others).
+    fn shade_packet(&self, small: &SmallWorld, ray: &RayPacket, nearest: &Nearest, hit: u32) -> V3 {
+        let h = Hits::new(self, small, ray, nearest, hit);
+        let direct = self.direct_packet(small, ray, &h);
+        // [`Tracer::combine`]: the ambient term, then the direct light for a lit material.
+        let (lit, hit_lanes) = (lane_mask(h.m.lit), lane_mask(hit));
+        let a = self.scene.settings.ambient_light.to_array();
+        let mut l: V3 = std::array::from_fn(|k| {
+            let ambient = h.m.ambient[k] * Lane::splat(a[k]);
+            hit_lanes.bitselect(lit.bitselect(ambient + direct[k], ambient), Lane::ZERO)
+        });
+        // Then the mirror reflection, lane by lane.
+        for i in lanes(hit & h.m.reflective) {
+            let ray = ray.lane(i);
+            let hit = h.hit(small, nearest, i);
+            let s = Surface::new(self.scene, &ray, &hit);
+            let sum = lane::<Vec3>(&l, i) + self.reflection(&ray, &s, 0);
+            set(&mut l, i, sum);
+        }
+        l
+    }
+
+    /// [`Tracer::direct`] for the lit lanes of `h`: per light, the lanes' shadow rays are
+    /// made and tested together.
+    fn direct_packet(&self, small: &SmallWorld, ray: &RayPacket, h: &Hits) -> V3 {
+        let mut sum = [Lane::ZERO; 3];
+        let lit = h.lanes & h.m.lit;
+        if lit == 0 {
+            return sum;
+        }
         for light in &self.scene.lights {
-            let mut live = 0;
-            for (i, surface) in surfaces.iter().enumerate() {
-                samples[i] = None;
-                let Some(s) = surface.as_ref().filter(|s| s.m.lit()) else {
-                    continue;
-                };
-                if let Some((shadow, sample, cos)) = shadow_ray(&rays[i], s, light) {
-                    shadows[i] = shadow;
-                    samples[i] = Some((sample, cos));
-                    live |= 1 << i;
-                }
-            }
+            let s = LightLanes::sample(light, &h.point);
+            // [`shadow_ray`](super::shadow_ray): `None` below either surface.
+            let cos = dot(&h.ns, &s.towards);
+            let below = cos.simd_le(Lane::ZERO) | dot(&h.ng, &s.towards).simd_le(Lane::ZERO);
+            let live = lit & s.ok.to_bitmask() & !below.to_bitmask();
             if live == 0 {
                 continue;
             }
             self.count(live);
-            let blocked = small.occluded_lanes(self.world, &shadows, live);
-            for (i, surface) in surfaces.iter().enumerate() {
-                if let (Some((sample, cos)), Some(s), false) = (&samples[i], surface, blocked[i]) {
-                    sum[i] += lit_by(s, sample, *cos);
-                }
+            let shadow = s.shadow_ray(ray, h);
+            let open = live & !self.blocked(small, &shadow, live);
+            if open == 0 {
+                continue;
             }
+            let add = h.lit_by(&s, cos, open);
+            let open = lane_mask(open);
+            sum = std::array::from_fn(|k| open.bitselect(sum[k] + add[k], sum[k]));
         }
         sum
+    }
+
+    /// [`World::occluded`](crate::accel::World::occluded) for the lanes of `live`: the lanes
+    /// blocked.
+    fn blocked(&self, small: &SmallWorld, shadow: &RayPacket, live: u32) -> u32 {
+        let simple = SmallWorld::simple_packet(self.world, shadow, live);
+        let mut blocked = match simple {
+            0 => 0,
+            _ => small.blocked(shadow, simple),
+        };
+        for i in lanes(live & !simple) {
+            blocked |= u32::from(self.world.occluded(&shadow.lane(i))) << i;
+        }
+        blocked
     }
 
     /// Count one ray per lane of `live`.
@@ -81,4 +123,265 @@ impl Tracer<'_> {
         self.rays
             .set(self.rays.get() + u64::from(live.count_ones()));
     }
+}
+
+/// The hits of a packet ready to shade: [`Surface`] in lanes, with the materials' terms.
+struct Hits {
+    /// The lanes shaded here (bit `i` for lane `i`).
+    lanes: u32,
+    t: Lane,
+    point: V3,
+    /// The normal as the instance faces ([`SurfaceHit`]'s geometric and shading normal).
+    normal: V3,
+    /// The normals turned towards the viewer, and the direction towards the viewer.
+    ng: V3,
+    ns: V3,
+    v: V3,
+    m: Materials,
+}
+
+impl Hits {
+    /// The hits of the lanes of `lanes`: each instance's normals and material for the lanes
+    /// it won.
+    #[inline]
+    fn new(
+        tracer: &Tracer,
+        small: &SmallWorld,
+        ray: &RayPacket,
+        nearest: &Nearest,
+        lanes: u32,
+    ) -> Self {
+        let point = point_at(&ray.origin, &ray.dir, nearest.t);
+        let mut normal = [Lane::ZERO; 3];
+        let mut m = Materials::default();
+        let on_lanes = lane_mask(lanes);
+        for (i, material) in small.materials().enumerate() {
+            let on = nearest.is(i) & on_lanes;
+            if !on.any() {
+                continue;
+            }
+            normal = select(on, &small.normal(i, ray, nearest.t), &normal);
+            let material = &tracer.scene.materials[material as usize];
+            m.add(on, material, tracer.max_depth > 0);
+        }
+        let v = ray.dir.map(|c| -c);
+        let (ng, ns) = facing_normals(&normal, &v);
+        Self {
+            lanes,
+            t: nearest.t,
+            point,
+            normal,
+            ng,
+            ns,
+            v,
+            m,
+        }
+    }
+
+    /// Lane `i`'s hit as [`World::intersect`](crate::accel::World::intersect) gives it.
+    fn hit(&self, small: &SmallWorld, nearest: &Nearest, i: usize) -> SurfaceHit {
+        let instance = nearest.instance.as_array()[i] as u32;
+        let normal: Vec3A = lane(&self.normal, i);
+        SurfaceHit {
+            t: self.t.as_array()[i],
+            point: lane(&self.point, i),
+            geometric_normal: normal,
+            shading_normal: normal,
+            instance,
+            material: small.materials().nth(instance as usize).unwrap_or(0),
+        }
+    }
+
+    /// [`lit_by`](super::lit_by) in lanes: the Lambert and Phong terms of the light sample
+    /// `s` with `cos = ns · l`, for the lanes of `open`.
+    #[inline]
+    fn lit_by(&self, s: &LightLanes, cos: Lane, open: u32) -> V3 {
+        let phong = self.m.phong & open;
+        let specular = match phong {
+            0 => [Lane::ZERO; 3],
+            _ => self.specular(&s.towards, phong),
+        };
+        let (irradiance, diffuse) = (&s.irradiance, &self.m.diffuse);
+        std::array::from_fn(|k| irradiance[k] * (diffuse[k] * cos + specular[k]))
+    }
+
+    /// `m.specular * phong(reflect(-l, ns) · v, p)` for the lanes of `phong`, zero for the
+    /// others (as [`lit_by`](super::lit_by) skips it for a material without specular).
+    fn specular(&self, towards: &V3, phong_lanes: u32) -> V3 {
+        // [`reflect`](super::reflect)`(-l, ns)`: `d - n (2 (d · n))`.
+        let d = towards.map(|c| -c);
+        let twice = Lane::splat(2.0) * dot(&d, &self.ns);
+        let r: V3 = std::array::from_fn(|k| d[k] - self.ns[k] * twice);
+        let r_dot_v = dot(&r, &self.v).to_array();
+        let exponent = self.m.exponent.to_array();
+        let lobe = Lane::new(std::array::from_fn(|i| {
+            if phong_lanes & (1 << i) != 0 {
+                phong(r_dot_v[i], exponent[i])
+            } else {
+                0.0
+            }
+        }));
+        let on = lane_mask(phong_lanes);
+        self.m.specular.map(|c| on.bitselect(c * lobe, Lane::ZERO))
+    }
+}
+
+/// The materials of a packet's hits, in lanes; the flags are lane bits.
+#[derive(Default)]
+struct Materials {
+    ambient: V3,
+    diffuse: V3,
+    specular: V3,
+    exponent: Lane,
+    /// [`Material::lit`].
+    lit: u32,
+    /// Specular not zero: the Phong lobe is computed.
+    phong: u32,
+    /// [`Material::reflective`] where the tracer casts reflection rays at all.
+    reflective: u32,
+}
+
+impl Materials {
+    /// Material `m` for the lanes of `on`.
+    fn add(&mut self, on: Lane, m: &Material, reflections: bool) {
+        self.ambient = select(on, &splat(m.ambient), &self.ambient);
+        self.diffuse = select(on, &splat(m.diffuse), &self.diffuse);
+        self.specular = select(on, &splat(m.specular), &self.specular);
+        self.exponent = on.bitselect(Lane::splat(m.phong_exponent), self.exponent);
+        let bits = on.to_bitmask();
+        let flag = |yes: bool| if yes { bits } else { 0 };
+        self.lit |= flag(m.lit());
+        self.phong |= flag(m.specular != Vec3::ZERO);
+        self.reflective |= flag(reflections && m.reflective());
+    }
+}
+
+/// [`Light::sample`] in lanes, and the shadow ray it asks for.
+struct LightLanes {
+    towards: V3,
+    /// `None` for a directional light (infinitely far).
+    distance: Option<Lane>,
+    irradiance: V3,
+    /// The lanes the light can light (not sitting on a point light).
+    ok: Lane,
+}
+
+impl LightLanes {
+    #[inline]
+    fn sample(light: &Light, point: &V3) -> Self {
+        match *light {
+            Light::Point { position, power } => {
+                let p = position.to_array();
+                let d: V3 = std::array::from_fn(|k| Lane::splat(p[k]) - point[k]);
+                let d2 = dot(&d, &d);
+                let ok = d2.simd_gt(Lane::ZERO) & d2.is_finite();
+                let dist = d2.sqrt();
+                Self {
+                    towards: d.map(|c| c / dist),
+                    distance: Some(dist),
+                    irradiance: power.to_array().map(|c| Lane::splat(c) / d2),
+                    ok,
+                }
+            }
+            Light::Directional {
+                towards,
+                irradiance,
+            } => Self {
+                towards: splat(towards.into()),
+                distance: None,
+                irradiance: splat(irradiance),
+                ok: lane_mask(u32::MAX),
+            },
+        }
+    }
+
+    /// [`shadow_ray`](super::shadow_ray)'s ray: from [`SurfaceHit::spawn_point`] towards
+    /// the light, as far as the light (and no farther than its distance past the hit point).
+    #[inline]
+    fn shadow_ray(&self, ray: &RayPacket, h: &Hits) -> RayPacket {
+        let origin = spawn_point(&h.point, &h.normal, &self.towards);
+        let t_max = match self.distance {
+            None => Lane::splat(f32::INFINITY),
+            Some(distance) => {
+                let back: V3 = std::array::from_fn(|k| h.point[k] - origin[k]);
+                let t = dot(&back, &self.towards) + distance;
+                distance
+                    .is_finite()
+                    .bitselect(t, Lane::splat(f32::INFINITY))
+            }
+        };
+        RayPacket {
+            origin,
+            dir: self.towards,
+            time: ray.time,
+            t_max,
+        }
+    }
+}
+
+/// [`SurfaceHit::spawn_point`] in lanes: the point pushed off the surface along the normal
+/// `n` (as the instance faces), towards `dir`'s side, by `1e-5 (1 + max |p_k|)`.
+#[inline]
+fn spawn_point(point: &V3, n: &V3, dir: &V3) -> V3 {
+    let a = point.map(|c| c.abs());
+    // glam's `max_element`: `maxps(maxps(x, y), z)`.
+    let largest = a[0].fast_max(a[1]).fast_max(a[2]);
+    let eps = Lane::splat(1e-5) * (Lane::ONE + largest);
+    let side = dot(dir, n)
+        .simd_ge(Lane::ZERO)
+        .bitselect(Lane::ONE, Lane::splat(-1.0));
+    let step = eps * side;
+    std::array::from_fn(|k| point[k] + n[k] * step)
+}
+
+/// [`facing_normals`](super::facing_normals) in lanes (the hit's geometric and shading
+/// normals are both `n`).
+#[inline]
+fn facing_normals(n: &V3, v: &V3) -> (V3, V3) {
+    let zero = n[0].simd_eq(Lane::ZERO) & n[1].simd_eq(Lane::ZERO) & n[2].simd_eq(Lane::ZERO);
+    let finite = n[0].is_finite() & n[1].is_finite() & n[2].is_finite();
+    let bad = zero | (finite ^ lane_mask(u32::MAX));
+    let ng = select(bad, v, n);
+    let ng = flip_where(dot(&ng, v).simd_lt(Lane::ZERO), &ng);
+    let ns = select(bad, &ng, n);
+    let ns = flip_where(dot(&ns, &ng).simd_lt(Lane::ZERO), &ns);
+    (ng, ns)
+}
+
+/// `-v` in the lanes of `m`, `v` in the others.
+#[inline(always)]
+fn flip_where(m: Lane, v: &V3) -> V3 {
+    let sign = m & Lane::splat(-0.0);
+    v.map(|c| c ^ sign)
+}
+
+/// `a` in the lanes of `m`, `b` in the others.
+#[inline(always)]
+fn select(m: Lane, a: &V3, b: &V3) -> V3 {
+    std::array::from_fn(|k| m.bitselect(a[k], b[k]))
+}
+
+#[inline(always)]
+fn splat(v: Vec3) -> V3 {
+    v.to_array().map(Lane::splat)
+}
+
+/// Lane `i` of `v`.
+#[inline(always)]
+fn lane<T: From<[f32; 3]>>(v: &V3, i: usize) -> T {
+    T::from(v.each_ref().map(|c| c.as_array()[i]))
+}
+
+/// Set lane `i` of `v` to `x`.
+#[inline(always)]
+fn set(v: &mut V3, i: usize, x: Vec3) {
+    for (c, x) in v.iter_mut().zip(x.to_array()) {
+        c.as_mut_array()[i] = x;
+    }
+}
+
+/// The lanes of `bits`, in order.
+#[inline(always)]
+fn lanes(bits: u32) -> impl Iterator<Item = usize> {
+    (0..LANES).filter(move |i| bits & (1 << i) != 0)
 }

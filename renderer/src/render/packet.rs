@@ -1,0 +1,176 @@
+//! Tracing a row [`LANES`] pixels at a time, for worlds with a packet form ([`SmallWorld`]):
+//! lane `k` traces the samples of pixel `k` of the group and keeps its sum, so the pixels'
+//! sums add in lanes with no serial chain through memory. The camera rays are made straight
+//! in the lanes of a [`RayPacket`] (the samples too where they are plain arithmetic,
+//! [`super::sample_lanes`], else each lane's sample lookup and shutter time are scalar; the
+//! direction through the film point, and its normalisation, are done for all lanes at once)
+//! and shaded by [`Tracer::radiance_packet`], which answers in lanes too. No ray or radiance
+//! is ever laid out one at a time.
+//!
+//! Bit identity with [`super::scalar_span`]: each lane does [`CameraRays::ray`]'s f32
+//! operations in its order ([`Projection::direction`]: `sx = (2 fx / w - 1) hw`,
+//! `sy = (1 - 2 fy / h) hh`, `d = (forward + right sx) + up sy`, and glam's SSE2
+//! `normalize`, `d / sqrt((x x + y y) + z z)`), and each lane's radiance is added to its own
+//! pixel in sample order.
+
+use super::CameraRays;
+use super::sample_lanes::{FilmLanes, PlainSamples};
+use crate::accel::packet::{LANES, Lane, RayPacket, SmallWorld, dot, lane_mask};
+use crate::camera::CameraFrame;
+use crate::sampling::{FrameSampler, PixelSampler};
+use crate::shading::Tracer;
+use glam::Vec3;
+
+/// [`LANES`] pixels at a time, one lane each: sample `i` of every pixel of the group, for `i`
+/// in 0..spp, so each lane's radiance is added to its own pixel's running sum (kept in lanes)
+/// in sample order, the terms and order of [`super::scalar_span`]. Returns the number of
+/// samples that were not finite.
+pub(super) fn packet_span(
+    tracer: &Tracer,
+    small: &SmallWorld,
+    sampler: &FrameSampler,
+    camera: &CameraRays,
+    x0: u32,
+    y: u32,
+    span: &mut [Vec3],
+) -> u64 {
+    let spp = sampler.spp();
+    let mut non_finite = 0;
+    let mut lanes = CameraLanes::new(camera);
+    // A still camera's rays need no per-lane frame: plain samples stay in lanes throughout.
+    let plain = PlainSamples::new(sampler, camera.shutter).filter(|_| lanes.still);
+    for (x, group) in (x0..).step_by(LANES).zip(span.chunks_mut(LANES)) {
+        let pixels: [PixelSampler; LANES] =
+            std::array::from_fn(|k| sampler.pixel(x + k.min(group.len() - 1) as u32, y));
+        let shift = PlainSamples::shifts(&pixels);
+        let columns = Lane::new(std::array::from_fn(|k| (x + k as u32) as f32 + 0.5));
+        let mut sum = [Lane::ZERO; 3];
+        for i in 0..spp {
+            // Lanes outside `live` keep stale values: their results are never read.
+            let (packet, live) = match &plain {
+                Some(plain) => {
+                    let film = plain.sample(&shift, columns, y as f32 + 0.5, i);
+                    (lanes.packet(&film), (1 << group.len()) - 1)
+                }
+                None => lanes.set_all(&pixels[..group.len()], x, y, i),
+            };
+            if live == 0 {
+                continue;
+            }
+            let l = tracer.radiance_packet(small, &packet, live);
+            let finite = l[0].is_finite() & l[1].is_finite() & l[2].is_finite();
+            let add = finite.to_bitmask() & live;
+            non_finite += u64::from((live & !add).count_ones());
+            let add = lane_mask(add);
+            sum = std::array::from_fn(|c| add.bitselect(sum[c] + l[c], sum[c]));
+        }
+        let n = Lane::splat(spp as f32);
+        let [r, g, b] = sum.map(|c| (c / n).to_array());
+        for (k, pixel) in group.iter_mut().enumerate() {
+            *pixel = Vec3::new(r[k], g[k], b[k]);
+        }
+    }
+    non_finite
+}
+
+/// A packet's camera rays before their directions: each lane's film point, time and camera
+/// frame (set once for a still camera).
+struct CameraLanes<'a> {
+    camera: &'a CameraRays<'a>,
+    /// The camera does not move: `frame` is set once.
+    still: bool,
+    fx: [f32; LANES],
+    fy: [f32; LANES],
+    time: [f32; LANES],
+    /// Eye, forward, right, up: per axis, per lane.
+    frame: [[[f32; LANES]; 3]; 4],
+}
+
+impl<'a> CameraLanes<'a> {
+    fn new(camera: &'a CameraRays<'a>) -> Self {
+        let mut lanes = Self {
+            camera,
+            still: !camera.camera.is_moving(),
+            fx: [0.0; LANES],
+            fy: [0.0; LANES],
+            time: [0.0; LANES],
+            frame: [[[0.0; LANES]; 3]; 4],
+        };
+        if let Some(view) = camera
+            .camera
+            .frame_at(0.0)
+            .filter(|_| !camera.camera.is_moving())
+        {
+            for k in 0..LANES {
+                lanes.set_frame(k, &view);
+            }
+        }
+        lanes
+    }
+
+    /// Each lane `k` of `pixels` (pixel `(x + k, y)`) takes sample `i`: the packet, and its
+    /// live lanes.
+    fn set_all(&mut self, pixels: &[PixelSampler], x: u32, y: u32, i: usize) -> (RayPacket, u32) {
+        let mut live = 0u32;
+        for (k, pixel) in pixels.iter().enumerate() {
+            live |= u32::from(self.set(k, pixel, x + k as u32, y, i)) << k;
+        }
+        let film = FilmLanes {
+            fx: Lane::new(self.fx),
+            fy: Lane::new(self.fy),
+            time: Lane::new(self.time),
+        };
+        (self.packet(&film), live)
+    }
+
+    /// Lane `k` takes sample `i` of pixel `(x, y)` ([`CameraRays::ray`] up to the direction);
+    /// `false` where the camera has no frame at the sample's time (the sample is black).
+    #[inline]
+    fn set(&mut self, k: usize, pixel: &PixelSampler, x: u32, y: u32, i: usize) -> bool {
+        let (t0, t1) = self.camera.shutter;
+        let s = pixel.sample(i);
+        let time = t0 + s.t * (t1 - t0);
+        if self.camera.camera.is_moving() {
+            let Some(view) = self.camera.camera.frame_at(time) else {
+                return false;
+            };
+            self.set_frame(k, &view);
+        }
+        self.time[k] = time;
+        self.fx[k] = x as f32 + 0.5 + s.dx;
+        self.fy[k] = y as f32 + 0.5 + s.dy;
+        true
+    }
+
+    fn set_frame(&mut self, k: usize, view: &CameraFrame) {
+        for (axes, v) in self
+            .frame
+            .iter_mut()
+            .zip([view.eye, view.forward, view.right, view.up])
+        {
+            for (axis, c) in axes.iter_mut().zip(v.to_array()) {
+                axis[k] = c;
+            }
+        }
+    }
+
+    /// The lanes' rays through the film points `film` at its times:
+    /// [`Projection::direction`](crate::camera::Projection::direction) in lanes.
+    #[inline]
+    fn packet(&self, film: &FilmLanes) -> RayPacket {
+        let p = &self.camera.projection;
+        let two = Lane::splat(2.0);
+        let (fx, fy) = (film.fx, film.fy);
+        let sx = (two * fx * Lane::splat(p.inv_width) - Lane::ONE) * Lane::splat(p.half_width);
+        let sy = (Lane::ONE - two * fy * Lane::splat(p.inv_height)) * Lane::splat(p.half_height);
+        let [eye, forward, right, up] = self.frame.map(|v| v.map(Lane::new));
+        let d: [Lane; 3] = std::array::from_fn(|k| forward[k] + right[k] * sx + up[k] * sy);
+        let length = dot(&d, &d).sqrt();
+        RayPacket {
+            origin: eye,
+            dir: d.map(|c| c / length),
+            time: film.time,
+            t_max: Lane::splat(f32::INFINITY),
+        }
+    }
+}
