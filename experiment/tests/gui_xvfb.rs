@@ -345,7 +345,11 @@ fn stimulus_frames_reach_the_screen_pixel_for_pixel_at_scale_1_and_1_5() {
         assert_eq!(t.onsets_ms.len(), 2);
         // Every frame of both pairs was either drawn or counted as dropped.
         assert_eq!(t.frame_times_ms.len() as u32 + t.dropped_frames, 2 * 20 * 2);
-        assert!(t.preload_ms > 0.0 && t.rt_ms > 0.0);
+        assert!(t.preload_ms > 0.0, "preload {} ms", t.preload_ms);
+        // The test presses "1" every 300 ms without seeing the screen, so a press can land in
+        // the frame that begins the response step: its response time is then exactly 0 (a CI
+        // run saw it once). Negative or non-finite would be a bug.
+        assert!(t.rt_ms >= 0.0 && t.rt_ms.is_finite(), "rt {} ms", t.rt_ms);
         assert!(t.frame_times_ms.windows(2).all(|w| w[1] > w[0]));
     }
 }
