@@ -196,8 +196,8 @@ class Mitsuba:
         return np.array(self.mi.render(self.scenes[key], seed=seed), dtype=np.float64)
 
     def reference(self, spp, seed, sampler="multijitter", per_pass=256):
-        """A reference of `spp` samples per pixel: the mean of passes of at most `per_pass`
-        spp (one pass of thousands would hold every sample's state at once in the LLVM
+        """A reference of `spp` samples per pixel (rounded down to a multiple of the number of
+        passes): the mean of passes of at most `per_pass` spp (one pass of thousands would hold every sample's state at once in the LLVM
         wavefront), each with its own seed, with a stratified sampler so that the reference's
         own noise stays well below the errors it measures."""
         passes = max(1, -(-spp // per_pass))

@@ -25,9 +25,11 @@
 //! win. Spinning instances are not packet-eligible (their per-ray pose is a chain of
 //! rotations); fixed and translating ones, turned or not, are computed exactly.
 
+use super::Instance;
+#[cfg(test)]
+use super::SurfaceHit;
 use super::World;
 use super::pose::{Pose, PoseOverTime};
-use super::{Instance, SurfaceHit};
 use crate::geometry::{Ray, Shape};
 use glam::{Mat3A, Vec3A};
 
@@ -177,6 +179,7 @@ pub struct RayPacket {
 impl RayPacket {
     /// The lanes of `simple` (not empty); the others repeat one of them, so that no lane
     /// computes with a NaN or a zero direction (their results are dropped anyway).
+    #[cfg(test)]
     fn of(rays: &[Ray; LANES], simple: u32) -> Self {
         let first = &rays[simple.trailing_zeros() as usize];
         Self::new(&std::array::from_fn(|i| {
@@ -188,6 +191,9 @@ impl RayPacket {
         }))
     }
 
+    /// Rays laid out one by one, in lanes (the tests build their packets so; the renderer
+    /// makes its packets in lanes from the start).
+    #[cfg(test)]
     pub fn new(rays: &[Ray; LANES]) -> Self {
         let lanes = |v: [Vec3A; LANES]| -> [Lane; 3] {
             let v = v.map(|v| v.to_array());
@@ -282,7 +288,7 @@ pub(crate) fn point_at(o: &[Lane; 3], d: &[Lane; 3], t: Lane) -> [Lane; 3] {
 }
 
 /// The lanes as vectors.
-#[inline(always)]
+#[cfg(test)]
 fn lanes_of(v: &[Lane; 3]) -> [Vec3A; LANES] {
     let [x, y, z] = v.map(|c| c.to_array());
     std::array::from_fn(|i| Vec3A::new(x[i], y[i], z[i]))
@@ -354,7 +360,14 @@ impl SmallWorld {
             .collect::<Option<Vec<_>>>()?;
         Some(Self { shapes })
     }
+}
 
+/// Rays laid out one by one: the entry points of the bit-identity tests, which hold these
+/// answers against [`World::intersect`] and [`World::occluded`]. They wrap the packet API
+/// below ([`SmallWorld::nearest`], [`SmallShape::world_normal`], [`SmallWorld::blocked`]),
+/// which is what the renderer calls with rays that stay in lanes.
+#[cfg(test)]
+impl SmallWorld {
     /// The lanes (bit `i` for lane `i`) of `live` this form answers itself; the others go to
     /// the scalar path.
     #[inline]
@@ -448,7 +461,8 @@ impl SmallWorld {
 /// The packet API: rays that stay in lanes from the camera to the shadow test.
 impl SmallWorld {
     /// The lanes of `live` (bit `i` for lane `i`) whose ray this form traces as the scalar
-    /// path does: [`simple`] in lanes (every packet ray has `t_min = 0`).
+    /// path does: `simple` (the tests' scalar specification) in lanes (every packet ray has
+    /// `t_min = 0`).
     #[inline(always)]
     pub(crate) fn simple_packet(world: &World, ray: &RayPacket, live: u32) -> u32 {
         let finite = |v: &[Lane; 3]| v[0].is_finite() & v[1].is_finite() & v[2].is_finite();
@@ -503,9 +517,9 @@ impl SmallWorld {
     }
 }
 
-/// A ray this form traces exactly as the scalar path does (see the module notes).
-/// (Every test is evaluated, without branches: they are cheap and almost always pass.)
-#[inline(always)]
+/// A ray this form traces exactly as the scalar path does (see the module notes): the
+/// specification [`SmallWorld::simple_packet`] is tested against.
+#[cfg(test)]
 fn simple(world: &World, ray: &Ray) -> bool {
     ray.origin.is_finite()
         & ray.dir.is_finite()

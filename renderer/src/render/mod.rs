@@ -150,14 +150,21 @@ impl CameraRays<'_> {
     /// The ray of sample `i` of pixel `(x, y)`.
     #[inline]
     fn ray(&self, pixel: &PixelSampler, x: u32, y: u32, i: usize) -> Option<Ray> {
-        let s = pixel.sample(i);
-        let time = self.shutter.0 + s.t * (self.shutter.1 - self.shutter.0);
+        let (fx, fy, time) = self.film_point(pixel, x, y, i);
         // A moving camera can lose its frame only between validated frame boundaries
         // (look-at passing through the eye); such a sample is black, never NaN.
         let view = self.camera.frame_at(time)?;
-        let (fx, fy) = (x as f32 + 0.5 + s.dx, y as f32 + 0.5 + s.dy);
         let dir = self.projection.direction(&view, fx, fy);
         Some(Ray::new(view.eye, dir, time))
+    }
+
+    /// Sample `i` of pixel `(x, y)` on the film, in pixels from the top-left corner, and its
+    /// scene time.
+    #[inline(always)]
+    fn film_point(&self, pixel: &PixelSampler, x: u32, y: u32, i: usize) -> (f32, f32, f32) {
+        let s = pixel.sample(i);
+        let time = self.shutter.0 + s.t * (self.shutter.1 - self.shutter.0);
+        (x as f32 + 0.5 + s.dx, y as f32 + 0.5 + s.dy, time)
     }
 }
 

@@ -96,11 +96,7 @@ impl<'a> CameraLanes<'a> {
             time: [0.0; LANES],
             frame: [[[0.0; LANES]; 3]; 4],
         };
-        if let Some(view) = camera
-            .camera
-            .frame_at(0.0)
-            .filter(|_| !camera.camera.is_moving())
-        {
+        if let Some(view) = camera.camera.frame_at(0.0).filter(|_| lanes.still) {
             for k in 0..LANES {
                 lanes.set_frame(k, &view);
             }
@@ -127,18 +123,14 @@ impl<'a> CameraLanes<'a> {
     /// `false` where the camera has no frame at the sample's time (the sample is black).
     #[inline]
     fn set(&mut self, k: usize, pixel: &PixelSampler, x: u32, y: u32, i: usize) -> bool {
-        let (t0, t1) = self.camera.shutter;
-        let s = pixel.sample(i);
-        let time = t0 + s.t * (t1 - t0);
-        if self.camera.camera.is_moving() {
+        let (fx, fy, time) = self.camera.film_point(pixel, x, y, i);
+        if !self.still {
             let Some(view) = self.camera.camera.frame_at(time) else {
                 return false;
             };
             self.set_frame(k, &view);
         }
-        self.time[k] = time;
-        self.fx[k] = x as f32 + 0.5 + s.dx;
-        self.fy[k] = y as f32 + 0.5 + s.dy;
+        (self.fx[k], self.fy[k], self.time[k]) = (fx, fy, time);
         true
     }
 

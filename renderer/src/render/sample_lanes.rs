@@ -11,8 +11,6 @@
 //! time is `t0 + t (t1 - t0)` and the film point `(x + 1/2) + dx`, each in that order.
 
 use crate::accel::packet::{LANES, Lane};
-use crate::condition::TimeFilter;
-use crate::sampling::warp::SpatialWarp;
 use crate::sampling::{FrameSampler, PixelSampler};
 
 /// A frame's samples in lanes (see the module notes).
@@ -31,13 +29,8 @@ pub(super) struct FilmLanes {
 impl<'a> PlainSamples<'a> {
     /// The frame's samples in lanes, or `None` unless they are plain arithmetic.
     pub(super) fn new(sampler: &'a FrameSampler, shutter: (f32, f32)) -> Option<Self> {
-        let plain = !sampler.scrambles()
-            && sampler.spatial == SpatialWarp::Box
-            && sampler.time == TimeFilter::Box;
-        plain.then(|| Self {
-            points: sampler.points(),
-            shutter,
-        })
+        let points = sampler.plain_points()?;
+        Some(Self { points, shutter })
     }
 
     /// The pixels' shifts, per axis.

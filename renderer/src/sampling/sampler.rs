@@ -36,8 +36,8 @@ pub struct FrameSampler {
     shift_key: u64,
     /// Set under `randomization: scramble` for sets that have a per-pixel scramble.
     scramble: Option<Scrambled>,
-    pub(crate) spatial: SpatialWarp,
-    pub(crate) time: TimeFilter,
+    spatial: SpatialWarp,
+    time: TimeFilter,
 }
 
 /// A frame whose pixels each scramble the set on their own (`crate::sampling::scramble`).
@@ -132,6 +132,17 @@ impl FrameSampler {
     /// The frame's (u, v, t) points before shift and warps.
     pub fn points(&self) -> &[[f32; 3]] {
         &self.points
+    }
+
+    /// The frame's points when every sample is plain arithmetic on them: shifted per pixel
+    /// (not scrambled), box spatial and box time filters, so that sample `i` of a pixel is
+    /// point `i` wrapped by the pixel's shift, its offset `(u - 1/2, v - 1/2)` and its time `t`
+    /// (what `render/sample_lanes.rs` computes in lanes); `None` otherwise.
+    pub fn plain_points(&self) -> Option<&[[f32; 3]]> {
+        let plain = self.scramble.is_none()
+            && self.spatial == SpatialWarp::Box
+            && self.time == TimeFilter::Box;
+        plain.then_some(&self.points[..])
     }
 
     /// Whether the pixels scramble the set (`randomization: scramble` on a set that has a
