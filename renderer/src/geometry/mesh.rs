@@ -152,23 +152,29 @@ impl TriangleMesh {
 
     /// Whether any triangle is hit with `ray.t_min < t < ray.t_max` (stops at the first).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let Some((boxes, tris)) = prepare(ray) else {
+        let Some(boxes) = BoxRay::new(ray) else {
             return false;
         };
+        let mut tris = LazyTriangleRay::new(ray);
         let (t_min, t_max) = (ray.t_min, ray.t_max);
         self.bvh.any(&boxes, t_max, |leaf| {
-            let t = tris.intersect(&self.leaves[leaf as usize], t_min, t_max);
+            let t = tris
+                .get()
+                .intersect(&self.leaves[leaf as usize], t_min, t_max);
             t.simd_lt(f32x4::splat(f32::INFINITY)).any()
         })
     }
 
     /// The closest hit's parameter and triangle, without normals.
     pub fn closest(&self, ray: &Ray) -> Option<ShapeHit> {
-        let (boxes, tris) = prepare(ray)?;
+        let boxes = BoxRay::new(ray)?;
+        let mut tris = LazyTriangleRay::new(ray);
         let t_min = ray.t_min;
         let mut found = None;
         self.bvh.closest(&boxes, ray.t_max, |leaf, t_max| {
-            let t = tris.intersect(&self.leaves[leaf as usize], t_min, t_max);
+            let t = tris
+                .get()
+                .intersect(&self.leaves[leaf as usize], t_min, t_max);
             match nearest_lane(t) {
                 Some((t, lane)) => {
                     // Padding lanes copy the leaf's last triangle at a later lane, so the
@@ -217,14 +223,34 @@ impl TriangleMesh {
     }
 }
 
-/// The ray prepared for box and four-lane triangle tests; `None` when it can hit nothing.
-#[inline(always)]
-fn prepare(ray: &Ray) -> Option<(BoxRay, WatertightRay4)> {
-    let w = WatertightRay::new(ray);
-    if !w.is_valid() {
-        return None;
+/// The ray prepared for four-lane triangle tests, when the traversal first reaches a leaf: a
+/// ray that enters the instance's swept box but misses the mesh's boxes (most rays near a
+/// moving mesh) never pays the shear's three divisions. [`BoxRay::new`] refuses exactly the
+/// rays [`WatertightRay::is_valid`] does (a non-finite origin, a non-finite or zero
+/// direction), so only valid rays are prepared.
+struct LazyTriangleRay<'a> {
+    ray: &'a Ray,
+    prepared: Option<WatertightRay4>,
+}
+
+impl<'a> LazyTriangleRay<'a> {
+    #[inline(always)]
+    fn new(ray: &'a Ray) -> Self {
+        Self {
+            ray,
+            prepared: None,
+        }
     }
-    Some((BoxRay::new(ray)?, WatertightRay4::new(&w)))
+
+    #[inline(always)]
+    fn get(&mut self) -> &WatertightRay4 {
+        let ray = self.ray;
+        self.prepared.get_or_insert_with(|| {
+            let w = WatertightRay::new(ray);
+            debug_assert!(w.is_valid());
+            WatertightRay4::new(&w)
+        })
+    }
 }
 
 #[cfg(test)]
