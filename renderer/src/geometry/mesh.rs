@@ -32,6 +32,37 @@ const MESH_BUILD: BvhBuildParams = BvhBuildParams {
     ..BvhBuildParams::very_slow_build()
 };
 
+/// Binary BVH nodes whose reinsertion a mesh's build may consider in its first pass:
+/// obvhs's reinsertion optimiser (`reinsertion_batch_ratio`) weighs moving each of the first
+/// `ratio x nodes` nodes elsewhere in the tree, two thirds of a 200k-triangle build with
+/// [`MESH_BUILD`]'s ratio of 1. It works from the top of the tree down, where moves pay most,
+/// so bounding the count bounds the build's cost on large meshes and changes nothing on
+/// smaller ones (the thesis's airliner, 3,348 triangles, about 6,700 nodes). On the trace
+/// bench's 200k-triangle torus a bound of 16,384 nodes built in 0.17-0.23 s of CPU instead of
+/// 0.82-0.86 s and traced as fast (CPU per frame 0.96-1.01x; 4,096 nodes built hardly faster
+/// and traced up to 7% slower; 65,536 built in 0.23-0.29 s), `trace_rays --rounds 7`, three
+/// interleaved rounds at load 8.7 (BENCHMARKS.md, issue 30).
+const REINSERTION_NODES: f32 = 16_384.0;
+
+/// [`MESH_BUILD`] with four triangles per leaf, its reinsertion bounded to
+/// [`REINSERTION_NODES`] and 64-bit Morton codes above that size (21 bits per axis separate
+/// two million cells along each axis: plenty for a mesh that a build must keep cheap).
+fn build_params(triangles: usize) -> BvhBuildParams {
+    let nodes = (2 * triangles) as f32;
+    let base = BvhBuildParams {
+        max_prims_per_leaf: LEAF_SIZE,
+        ..MESH_BUILD
+    };
+    if nodes <= REINSERTION_NODES {
+        return base;
+    }
+    BvhBuildParams {
+        reinsertion_batch_ratio: REINSERTION_NODES / nodes,
+        sort_precision: obvhs::ploc::SortPrecision::U64,
+        ..base
+    }
+}
+
 #[derive(Clone)]
 pub struct TriangleMesh {
     /// Vertex positions. Read-only after construction: the BVH was built from them.
@@ -93,10 +124,7 @@ impl TriangleMesh {
         let bvh = if boxes.is_empty() {
             Bvh4::default()
         } else {
-            let params = BvhBuildParams {
-                max_prims_per_leaf: LEAF_SIZE,
-                ..MESH_BUILD
-            };
+            let params = build_params(boxes.len());
             Bvh4::from_bvh2(&build_bvh2(&boxes, params, &mut Duration::default()))
         };
         // Reorder once so leaf i's lanes are triangles first_i .. first_i + count_i.
