@@ -151,10 +151,18 @@ impl Environment {
     fn bilinear(&self, u: f32, v: f32) -> Vec3 {
         let fx = u * self.width as f32 - 0.5;
         let fy = (v * self.height as f32 - 0.5).clamp(0.0, (self.height - 1) as f32);
-        let (x0, y0) = (fx.floor(), fy.floor());
+        let (x0, y0) = (floor(fx), floor(fy));
         let (ax, ay) = (fx - x0, fy - y0);
         let w = self.width as i64;
-        let col = |x: i64| x.rem_euclid(w) as usize;
+        // Columns wrap around; only u at the seam leaves [0, w), so the remainder's integer
+        // division is taken there only.
+        let col = |x: i64| {
+            if (0..w).contains(&x) {
+                x as usize
+            } else {
+                x.rem_euclid(w) as usize
+            }
+        };
         let (c0, c1) = (col(x0 as i64), col(x0 as i64 + 1));
         let r0 = y0 as usize;
         let r1 = (r0 + 1).min(self.height - 1);
@@ -165,6 +173,28 @@ impl Environment {
         let top = at(r0, c0).lerp(at(r0, c1), ax);
         let bottom = at(r1, c0).lerp(at(r1, c1), ax);
         top.lerp(bottom, ay)
+    }
+}
+
+/// `x.floor()` without a call: baseline x86-64 has no rounding instruction, so `f32::floor`
+/// is a libm call (2% of a sky-filled frame's samples). The same value for every `x`: below
+/// 2^23 in magnitude an f32 truncates exactly through an integer, above it every f32 is an
+/// integer already (and NaN or infinity goes to `f32::floor`).
+#[inline(always)]
+fn floor(x: f32) -> f32 {
+    if x.abs() < 8_388_608.0 {
+        let t = x as i32 as f32;
+        // Truncation rounds towards zero: one less below zero when it rounded up. A `-0.0`
+        // stays `-0.0` as `f32::floor` keeps it (`t = +0.0`, not above it: `-0.0` is kept).
+        if t > x {
+            t - 1.0
+        } else if t == 0.0 {
+            x * 0.0
+        } else {
+            t
+        }
+    } else {
+        x.floor()
     }
 }
 
@@ -326,6 +356,34 @@ mod tests {
         let d = sky::direction(2.5 / 8.0, 1.75 / 4.0);
         let c = env.radiance(Vec3A::from(d));
         assert!((c - Vec3::new(2.0, 1.25, 1.0)).length() < 1e-3, "{c}");
+    }
+
+    #[test]
+    fn floor_without_a_call_is_f32_floor_to_the_bit() {
+        let mut values = vec![
+            0.0f32,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            8_388_607.5,
+            -8_388_607.5,
+        ];
+        values.extend([8_388_608.0, 1e30, -1e30, f32::INFINITY, f32::NEG_INFINITY]);
+        values.extend([f32::MIN_POSITIVE, -f32::MIN_POSITIVE, 1e-45, -1e-45]);
+        for i in 0..100_000u64 {
+            let bits = crate::hash::hash(3, &[i]) as u32;
+            values.push(f32::from_bits(bits));
+            values.push(crate::hash::unit_f32(crate::hash::hash(4, &[i])) * 4096.0 - 2048.0);
+        }
+        for x in values {
+            let (ours, std) = (floor(x), x.floor());
+            assert!(
+                ours.to_bits() == std.to_bits() || (ours.is_nan() && std.is_nan()),
+                "floor({x:e}): {ours:e} against {std:e}"
+            );
+        }
     }
 
     #[test]

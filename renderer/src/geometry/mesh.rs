@@ -32,6 +32,37 @@ const MESH_BUILD: BvhBuildParams = BvhBuildParams {
     ..BvhBuildParams::very_slow_build()
 };
 
+/// Binary BVH nodes whose reinsertion a mesh's build may consider in its first pass:
+/// obvhs's reinsertion optimiser (`reinsertion_batch_ratio`) weighs moving each of the first
+/// `ratio x nodes` nodes elsewhere in the tree, two thirds of a 200k-triangle build with
+/// [`MESH_BUILD`]'s ratio of 1. It works from the top of the tree down, where moves pay most,
+/// so bounding the count bounds the build's cost on large meshes and changes nothing on
+/// smaller ones (the thesis's airliner, 3,348 triangles, about 6,700 nodes). On the trace
+/// bench's 200k-triangle torus a bound of 16,384 nodes built in 0.17-0.23 s of CPU instead of
+/// 0.82-0.86 s and traced as fast (CPU per frame 0.96-1.01x; 4,096 nodes built hardly faster
+/// and traced up to 7% slower; 65,536 built in 0.23-0.29 s), `trace_rays --rounds 7`, three
+/// interleaved rounds at load 8.7 (BENCHMARKS.md, issue 30).
+const REINSERTION_NODES: f32 = 16_384.0;
+
+/// [`MESH_BUILD`] with four triangles per leaf, its reinsertion bounded to
+/// [`REINSERTION_NODES`] and 64-bit Morton codes above that size (21 bits per axis separate
+/// two million cells along each axis: plenty for a mesh that a build must keep cheap).
+fn build_params(triangles: usize) -> BvhBuildParams {
+    let nodes = (2 * triangles) as f32;
+    let base = BvhBuildParams {
+        max_prims_per_leaf: LEAF_SIZE,
+        ..MESH_BUILD
+    };
+    if nodes <= REINSERTION_NODES {
+        return base;
+    }
+    BvhBuildParams {
+        reinsertion_batch_ratio: REINSERTION_NODES / nodes,
+        sort_precision: obvhs::ploc::SortPrecision::U64,
+        ..base
+    }
+}
+
 #[derive(Clone)]
 pub struct TriangleMesh {
     /// Vertex positions. Read-only after construction: the BVH was built from them.
@@ -93,10 +124,7 @@ impl TriangleMesh {
         let bvh = if boxes.is_empty() {
             Bvh4::default()
         } else {
-            let params = BvhBuildParams {
-                max_prims_per_leaf: LEAF_SIZE,
-                ..MESH_BUILD
-            };
+            let params = build_params(boxes.len());
             Bvh4::from_bvh2(&build_bvh2(&boxes, params, &mut Duration::default()))
         };
         // Reorder once so leaf i's lanes are triangles first_i .. first_i + count_i.
@@ -152,23 +180,29 @@ impl TriangleMesh {
 
     /// Whether any triangle is hit with `ray.t_min < t < ray.t_max` (stops at the first).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let Some((boxes, tris)) = prepare(ray) else {
+        let Some(boxes) = BoxRay::new(ray) else {
             return false;
         };
+        let mut tris = LazyTriangleRay::new(ray);
         let (t_min, t_max) = (ray.t_min, ray.t_max);
         self.bvh.any(&boxes, t_max, |leaf| {
-            let t = tris.intersect(&self.leaves[leaf as usize], t_min, t_max);
+            let t = tris
+                .get()
+                .intersect(&self.leaves[leaf as usize], t_min, t_max);
             t.simd_lt(f32x4::splat(f32::INFINITY)).any()
         })
     }
 
     /// The closest hit's parameter and triangle, without normals.
     pub fn closest(&self, ray: &Ray) -> Option<ShapeHit> {
-        let (boxes, tris) = prepare(ray)?;
+        let boxes = BoxRay::new(ray)?;
+        let mut tris = LazyTriangleRay::new(ray);
         let t_min = ray.t_min;
         let mut found = None;
         self.bvh.closest(&boxes, ray.t_max, |leaf, t_max| {
-            let t = tris.intersect(&self.leaves[leaf as usize], t_min, t_max);
+            let t = tris
+                .get()
+                .intersect(&self.leaves[leaf as usize], t_min, t_max);
             match nearest_lane(t) {
                 Some((t, lane)) => {
                     // Padding lanes copy the leaf's last triangle at a later lane, so the
@@ -217,14 +251,34 @@ impl TriangleMesh {
     }
 }
 
-/// The ray prepared for box and four-lane triangle tests; `None` when it can hit nothing.
-#[inline(always)]
-fn prepare(ray: &Ray) -> Option<(BoxRay, WatertightRay4)> {
-    let w = WatertightRay::new(ray);
-    if !w.is_valid() {
-        return None;
+/// The ray prepared for four-lane triangle tests, when the traversal first reaches a leaf: a
+/// ray that enters the instance's swept box but misses the mesh's boxes (most rays near a
+/// moving mesh) never pays the shear's three divisions. [`BoxRay::new`] refuses exactly the
+/// rays [`WatertightRay::is_valid`] does (a non-finite origin, a non-finite or zero
+/// direction), so only valid rays are prepared.
+struct LazyTriangleRay<'a> {
+    ray: &'a Ray,
+    prepared: Option<WatertightRay4>,
+}
+
+impl<'a> LazyTriangleRay<'a> {
+    #[inline(always)]
+    fn new(ray: &'a Ray) -> Self {
+        Self {
+            ray,
+            prepared: None,
+        }
     }
-    Some((BoxRay::new(ray)?, WatertightRay4::new(&w)))
+
+    #[inline(always)]
+    fn get(&mut self) -> &WatertightRay4 {
+        let ray = self.ray;
+        self.prepared.get_or_insert_with(|| {
+            let w = WatertightRay::new(ray);
+            debug_assert!(w.is_valid());
+            WatertightRay4::new(&w)
+        })
+    }
 }
 
 #[cfg(test)]

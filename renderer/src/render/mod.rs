@@ -3,13 +3,13 @@
 //! (seed, frame) and the pixel, and its samples are summed in a fixed order, so the bytes are
 //! the same whatever the thread count or the order tiles finish in.
 
+mod frame_lanes;
 mod packet;
 pub mod pipeline;
 mod sample_lanes;
 pub mod sequence;
 
 use crate::accel::World;
-use crate::accel::packet::SmallWorld;
 use crate::camera::{Camera, Projection};
 use crate::film::Film;
 use crate::geometry::Ray;
@@ -59,9 +59,9 @@ pub fn render_frame(
     render_frame_on(scene, sampling, seed, frame, progress, true)
 }
 
-/// [`render_frame`], tracing [`LANES`](crate::accel::packet::LANES) samples at once where the world allows it
-/// ([`World::small`]) only if `packets`; the scalar path gives the same bytes (the tests
-/// compare the two).
+/// [`render_frame`], tracing [`LANES`](crate::accel::packet::LANES) samples at once only if
+/// `packets` (camera rays in lanes; shaded in lanes where the world has a packet form,
+/// [`World::small`]); the scalar path gives the same bytes (the tests compare the two).
 pub(crate) fn render_frame_on(
     scene: &Scene,
     sampling: &SamplingConfig,
@@ -73,7 +73,6 @@ pub(crate) fn render_frame_on(
     let sampler = FrameSampler::new(sampling, seed, frame)?;
     let shutter = scene.settings.shutter(frame);
     let world = World::build(scene.instances.clone(), shutter);
-    let small = world.small().filter(|_| packets);
     let (w, h) = (scene.settings.width, scene.settings.height);
     let (tiles_x, tiles_y) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let tiles: Vec<(Vec<Vec3>, FrameStats)> = (0..tiles_x * tiles_y)
@@ -87,7 +86,7 @@ pub(crate) fn render_frame_on(
             let mut stats = FrameStats::default();
             for (row, y) in pixels.chunks_mut((x1 - x0) as usize).zip(y0..y1) {
                 let (samples, non_finite) =
-                    render_span(&tracer, small, &sampler, shutter, x0, y, row);
+                    render_span(&tracer, packets, &sampler, shutter, x0, y, row);
                 stats.samples += samples;
                 stats.non_finite += non_finite;
             }
@@ -112,11 +111,11 @@ pub(crate) fn render_frame_on(
 }
 
 /// Trace every sample of the pixels `x0..x0 + span.len()` of row `y` into `span`, [`LANES`]
-/// at a time if the world has a packet form `small`; returns the samples traced and how many
-/// were not finite.
+/// at a time if `packets` (shaded in lanes where the world has a packet form, [`World::small`],
+/// else lane by lane); returns the samples traced and how many were not finite.
 fn render_span(
     tracer: &Tracer,
-    small: Option<&SmallWorld>,
+    packets: bool,
     sampler: &FrameSampler,
     shutter: (f32, f32),
     x0: u32,
@@ -132,9 +131,11 @@ fn render_span(
         shutter,
     };
     let spp = sampler.spp();
-    let non_finite = match small {
-        Some(small) => packet::packet_span(tracer, small, sampler, &camera, x0, y, span),
-        None => scalar_span(tracer, sampler, &camera, x0, y, span),
+    let non_finite = if packets {
+        let small = tracer.world.small();
+        packet::packet_span(tracer, small, sampler, &camera, x0, y, span)
+    } else {
+        scalar_span(tracer, sampler, &camera, x0, y, span)
     };
     ((span.len() * spp) as u64, non_finite)
 }
@@ -293,6 +294,48 @@ mod tests {
                     randomization: Some(crate::sampling::Randomization::Scramble),
                     ..boxed
                 },
+            }
+        }
+    }
+
+    /// The thesis's scene `name` (`scenes/thesis/`) at `width` x `height`.
+    fn thesis_scene(name: &str, width: u32, height: u32) -> Scene {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../scenes/thesis")
+            .join(format!("{name}.json"));
+        let mut scene = Scene::load(&path).unwrap();
+        (scene.settings.width, scene.settings.height) = (width, height);
+        scene
+    }
+
+    /// The thesis's own scenes, which have no packet form (a moving mesh under a moving
+    /// camera; spinning spheres), take the lanes for their camera rays: the same bytes as one
+    /// ray at a time, with the scenes' own sampling (Gaussian pixel filter, triangle time
+    /// filter) and a box-filtered one, at the frames the benchmarks time.
+    #[test]
+    fn thesis_scenes_in_lanes_equal_scalar_frames_bit_for_bit() {
+        for (name, frame, size) in [("plane", 93, (45, 40)), ("spheres", 100, (29, 24))] {
+            let scene = thesis_scene(name, size.0, size.1);
+            let world = World::build(scene.instances.clone(), scene.settings.shutter(frame));
+            assert!(world.small().is_none(), "{name}");
+            for (spp, sampling) in [
+                (3, scene.settings.sampling.clone()),
+                (8, Filters::Box.sampling(8)),
+            ] {
+                let sampling = SamplingConfig { spp, ..sampling };
+                let render = |packets| {
+                    render_frame_on(&scene, &sampling, 5, frame, &NoProgress, packets).unwrap()
+                };
+                let ((a, sa), (b, sb)) = (render(true), render(false));
+                assert_eq!(sa, sb, "{name}, spp {spp}");
+                assert!(sa.rays > sa.samples, "{name}: some samples hit something");
+                let bits = |f: &Film| -> Vec<[u32; 3]> {
+                    f.pixels
+                        .iter()
+                        .map(|p| p.to_array().map(f32::to_bits))
+                        .collect()
+                };
+                assert!(bits(&a) == bits(&b), "{name}, spp {spp}: the pixels differ");
             }
         }
     }

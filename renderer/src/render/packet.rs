@@ -14,12 +14,12 @@
 //! pixel in sample order.
 
 use super::CameraRays;
+use super::frame_lanes::frames_at;
 use super::sample_lanes::{FilmLanes, PlainSamples};
 use crate::accel::packet::{LANES, Lane, RayPacket, SmallWorld, dot, lane_mask};
-use crate::camera::CameraFrame;
 use crate::sampling::{FrameSampler, PixelSampler};
 use crate::shading::Tracer;
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 /// [`LANES`] pixels at a time, one lane each: sample `i` of every pixel of the group, for `i`
 /// in 0..spp, so each lane's radiance is added to its own pixel's running sum (kept in lanes)
@@ -27,7 +27,7 @@ use glam::Vec3;
 /// samples that were not finite.
 pub(super) fn packet_span(
     tracer: &Tracer,
-    small: &SmallWorld,
+    small: Option<&SmallWorld>,
     sampler: &FrameSampler,
     camera: &CameraRays,
     x0: u32,
@@ -57,7 +57,10 @@ pub(super) fn packet_span(
             if live == 0 {
                 continue;
             }
-            let l = tracer.radiance_packet(small, &packet, live);
+            let l = match small {
+                Some(small) => tracer.radiance_packet(small, &packet, live),
+                None => tracer.radiance_lanes(&packet, live),
+            };
             let finite = l[0].is_finite() & l[1].is_finite() & l[2].is_finite();
             let add = finite.to_bitmask() & live;
             non_finite += u64::from((live & !add).count_ones());
@@ -73,8 +76,9 @@ pub(super) fn packet_span(
     non_finite
 }
 
-/// A packet's camera rays before their directions: each lane's film point, time and camera
-/// frame (set once for a still camera).
+/// A packet's camera rays before their directions: each lane's film point and time, and the
+/// camera's frame per lane (set once for a still camera, per sample in lanes for a moving one:
+/// [`frames_at`]).
 struct CameraLanes<'a> {
     camera: &'a CameraRays<'a>,
     /// The camera does not move: `frame` is set once.
@@ -82,68 +86,48 @@ struct CameraLanes<'a> {
     fx: [f32; LANES],
     fy: [f32; LANES],
     time: [f32; LANES],
-    /// Eye, forward, right, up: per axis, per lane.
-    frame: [[[f32; LANES]; 3]; 4],
+    /// Eye, forward, right, up: per axis, in lanes.
+    frame: [[Lane; 3]; 4],
 }
 
 impl<'a> CameraLanes<'a> {
     fn new(camera: &'a CameraRays<'a>) -> Self {
-        let mut lanes = Self {
+        let still = !camera.camera.is_moving();
+        let splat = |v: Vec3A| v.to_array().map(Lane::splat);
+        let frame = match camera.camera.frame_at(0.0).filter(|_| still) {
+            Some(view) => [view.eye, view.forward, view.right, view.up].map(splat),
+            None => [[Lane::ZERO; 3]; 4],
+        };
+        Self {
             camera,
-            still: !camera.camera.is_moving(),
+            still,
             fx: [0.0; LANES],
             fy: [0.0; LANES],
             time: [0.0; LANES],
-            frame: [[[0.0; LANES]; 3]; 4],
-        };
-        if let Some(view) = camera.camera.frame_at(0.0).filter(|_| lanes.still) {
-            for k in 0..LANES {
-                lanes.set_frame(k, &view);
-            }
+            frame,
         }
-        lanes
     }
 
     /// Each lane `k` of `pixels` (pixel `(x + k, y)`) takes sample `i`: the packet, and its
-    /// live lanes.
+    /// live lanes (those of `pixels` where the camera has a frame at the sample's time; the
+    /// others' samples are black, as [`CameraRays::ray`] makes them).
     fn set_all(&mut self, pixels: &[PixelSampler], x: u32, y: u32, i: usize) -> (RayPacket, u32) {
-        let mut live = 0u32;
         for (k, pixel) in pixels.iter().enumerate() {
-            live |= u32::from(self.set(k, pixel, x + k as u32, y, i)) << k;
+            (self.fx[k], self.fy[k], self.time[k]) =
+                self.camera.film_point(pixel, x + k as u32, y, i);
         }
         let film = FilmLanes {
             fx: Lane::new(self.fx),
             fy: Lane::new(self.fy),
             time: Lane::new(self.time),
         };
-        (self.packet(&film), live)
-    }
-
-    /// Lane `k` takes sample `i` of pixel `(x, y)` ([`CameraRays::ray`] up to the direction);
-    /// `false` where the camera has no frame at the sample's time (the sample is black).
-    #[inline]
-    fn set(&mut self, k: usize, pixel: &PixelSampler, x: u32, y: u32, i: usize) -> bool {
-        let (fx, fy, time) = self.camera.film_point(pixel, x, y, i);
+        let mut live = (1u32 << pixels.len()) - 1;
         if !self.still {
-            let Some(view) = self.camera.camera.frame_at(time) else {
-                return false;
-            };
-            self.set_frame(k, &view);
+            let (frame, defined) = frames_at(self.camera.camera, film.time);
+            self.frame = frame;
+            live &= defined;
         }
-        (self.fx[k], self.fy[k], self.time[k]) = (fx, fy, time);
-        true
-    }
-
-    fn set_frame(&mut self, k: usize, view: &CameraFrame) {
-        for (axes, v) in self
-            .frame
-            .iter_mut()
-            .zip([view.eye, view.forward, view.right, view.up])
-        {
-            for (axis, c) in axes.iter_mut().zip(v.to_array()) {
-                axis[k] = c;
-            }
-        }
+        (self.packet(&film), live)
     }
 
     /// The lanes' rays through the film points `film` at its times:
@@ -155,7 +139,7 @@ impl<'a> CameraLanes<'a> {
         let (fx, fy) = (film.fx, film.fy);
         let sx = (two * fx * Lane::splat(p.inv_width) - Lane::ONE) * Lane::splat(p.half_width);
         let sy = (Lane::ONE - two * fy * Lane::splat(p.inv_height)) * Lane::splat(p.half_height);
-        let [eye, forward, right, up] = self.frame.map(|v| v.map(Lane::new));
+        let [eye, forward, right, up] = self.frame;
         let d: [Lane; 3] = std::array::from_fn(|k| forward[k] + right[k] * sx + up[k] * sy);
         let length = dot(&d, &d).sqrt();
         RayPacket {

@@ -52,6 +52,17 @@ impl Tracer<'_> {
         out
     }
 
+    /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` of `live`, lane by lane, for
+    /// worlds without a packet form (meshes, spinning instances): the camera rays were made
+    /// in lanes, and the radiances are summed in lanes.
+    pub fn radiance_lanes(&self, ray: &RayPacket, live: u32) -> V3 {
+        let mut out = [Lane::ZERO; 3];
+        for i in lanes(live) {
+            set(&mut out, i, self.radiance(&ray.lane(i), 0));
+        }
+        out
+    }
+
     /// [`Tracer::shade`] at depth 0 for the lanes of `hit` (zero in the others).
     fn shade_packet(&self, small: &SmallWorld, ray: &RayPacket, nearest: &Nearest, hit: u32) -> V3 {
         let h = Hits::new(self, small, ray, nearest, hit);
