@@ -7,13 +7,18 @@
 //! the median ratio upper / lower of the per-subject, per-condition JND interval (an end outside
 //! the tested levels counts as infinitely wide), the share of intervals with both ends inside,
 //! the coverage of the true JND, and the bias of the fitted JND (median and mean of
-//! JND / true - 1 over the fits with a value); for QUEST+ also its own posterior estimate.
+//! JND / true - 1 over the fits with a value). Beside it, for every procedure alike, the
+//! QUEST+ model's posterior from the same trials (the default prior of
+//! `experiment::procedure::QuestPlusSpec`; for a QUEST+ session exactly its own estimate): the
+//! median ratio of its 95% interval, its coverage and the median bias of its posterior mean.
 //!
 //! ```text
 //! nice -n 10 cargo run -p analysis --release --example adaptive_efficiency -- \
 //!     scenes/designs/thesis.json scenes/observers/thesis.json 1000 200 > efficiency.md
 //! ```
-//! (arguments: constant-stimuli design, observer, replications, bootstrap resamples). Each
+//! (arguments: constant-stimuli design, observer, replications, bootstrap resamples (0: fits
+//! and posteriors only, the interval columns of the fits left empty), and optionally a text the
+//! procedures' names must contain, e.g. `QUEST+`). Each
 //! replication r reseeds the design and the observer as `plan` does (`plan::replicate::seeded`).
 
 use analysis::bootstrap::{Bound, bootstrap};
@@ -22,6 +27,9 @@ use analysis::plan::replicate::seeded;
 use analysis::psychometric::fit;
 use analysis::report::Settings;
 use anyhow::{Context, Result};
+use experiment::log::SessionLog;
+use experiment::procedure::interleave::Track;
+use experiment::procedure::quest_plus::QuestPlus;
 use experiment::procedure::{self, ProcedureSpec, QuestPlusSpec, StairRule, StaircaseSpec};
 use experiment::simulate::simulate_subject;
 use experiment::{Design, Observer};
@@ -29,7 +37,7 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 
 /// One subject's condition: interval (ln lower, ln upper; infinite outside the levels), the
-/// fitted JND, and the procedure's own estimate with its interval (QUEST+).
+/// fitted JND, and the QUEST+ posterior mean with its 95% interval (spp).
 #[derive(Clone, Debug)]
 struct Cell {
     truth: f64,
@@ -47,17 +55,19 @@ fn main() -> Result<()> {
     observer.file.subject_spread = 0.0;
     let reps: u64 = args.get(2).context(usage)?.parse()?;
     let resamples: usize = args.get(3).context(usage)?.parse()?;
+    let only = args.get(4).cloned().unwrap_or_default();
     println!(
         "| procedure | trials per subject (mean) | median interval upper/lower | both ends inside | \
-         coverage | bias median | bias mean | own estimate: median upper/lower, coverage, bias median |"
+         coverage | bias median | bias mean (fits with a value) | posterior: median upper/lower, coverage, bias median | \
+         next trial known while answering |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
-    for (name, spec) in procedures() {
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for (name, spec) in procedures().into_iter().filter(|p| p.0.contains(&only)) {
         let mut d = design.clone();
         d.file.procedure = spec;
         let t0 = std::time::Instant::now();
-        let (trials, cells) = run(&d, &observer, reps, resamples)?;
-        println!("{}", row(&name, trials, &cells));
+        let (trials, known, cells) = run(&d, &observer, reps, resamples)?;
+        println!("{} {:.3} |", row(&name, trials, &cells), known);
         eprintln!("{name}: {:.0} s", t0.elapsed().as_secs_f64());
     }
     Ok(())
@@ -68,7 +78,7 @@ fn procedures() -> Vec<(String, ProcedureSpec)> {
         "constant stimuli".to_string(),
         ProcedureSpec::ConstantStimuli,
     )];
-    for n in [6, 8, 11, 16, 24, 32] {
+    for n in [8, 11, 16, 24, 32] {
         out.push((
             format!("QUEST+ {n} per condition"),
             ProcedureSpec::QuestPlus(QuestPlusSpec {
@@ -97,15 +107,32 @@ fn procedures() -> Vec<(String, ProcedureSpec)> {
     out
 }
 
-/// Every replication's cells, and the mean trials per subject.
-fn run(d: &Design, o: &Observer, reps: u64, resamples: usize) -> Result<(f64, Vec<Cell>)> {
+/// The mean trials per subject, the share of main trials whose successor the app could load
+/// while the subject answers (`Procedure::after_current`), and every replication's cells.
+fn run(d: &Design, o: &Observer, reps: u64, resamples: usize) -> Result<(f64, f64, Vec<Cell>)> {
     let dir = tempfile::tempdir()?;
-    let per: Vec<(usize, Vec<Cell>)> = (0..reps)
+    let per: Vec<(usize, usize, Vec<Cell>)> = (0..reps)
         .into_par_iter()
         .map(|r| replication(d, o, r, resamples, &dir.path().join(format!("{r}.jsonl"))))
         .collect::<Result<_>>()?;
-    let trials = per.iter().map(|p| p.0).sum::<usize>() as f64 / reps as f64;
-    Ok((trials, per.into_iter().flat_map(|p| p.1).collect()))
+    let trials = per.iter().map(|p| p.0).sum::<usize>() as f64;
+    let known = per.iter().map(|p| p.1).sum::<usize>() as f64;
+    Ok((
+        trials / reps as f64,
+        known / trials,
+        per.into_iter().flat_map(|p| p.2).collect(),
+    ))
+}
+
+/// Main trials of the log whose successor was known before the answer (the last one has none).
+fn known_next(d: &Design, log: &SessionLog) -> usize {
+    let mut p = procedure::start(d, "s01");
+    let mut known = 0;
+    for t in log.main_trials() {
+        known += p.after_current().is_some() as usize;
+        p.answer(t.correct);
+    }
+    known
 }
 
 fn replication(
@@ -114,14 +141,11 @@ fn replication(
     r: u64,
     resamples: usize,
     path: &std::path::Path,
-) -> Result<(usize, Vec<Cell>)> {
+) -> Result<(usize, usize, Vec<Cell>)> {
     let (d, o) = seeded(d, o, r);
     simulate_subject(&d, &o, "s01", path)?;
     let ds = Dataset::read(&[path.to_path_buf()])?;
-    let log = experiment::log::SessionLog::read(path)?;
-    let mut p = procedure::start(&d, "s01");
-    procedure::replay(p.as_mut(), log.main_trials()).map_err(|m| anyhow::anyhow!("{m:?}"))?;
-    let own = p.estimates();
+    let log = SessionLog::read(path)?;
     let mut s = Settings::default();
     s.bootstrap.resamples = resamples;
     s.bootstrap.seed = r;
@@ -132,23 +156,24 @@ fn replication(
         .filter(|g| g.key.grouping == Grouping::Condition)
     {
         let f = fit(&g.per_subject[0], &s.fit);
-        let b = bootstrap(&f, g.key.id(), &s.bootstrap);
+        let b = (resamples > 0).then(|| bootstrap(&f, g.key.id(), &s.bootstrap));
         let c = g.condition.as_ref().context("a condition group")?;
         let truth = own_condition_truth(&o, &d, c)?;
-        let own = own
-            .iter()
-            .find(|e| e.condition.scene == c[0] && e.condition.point_set.to_string() == c[1])
-            .and_then(|e| e.interval.map(|i| (e.threshold, i.0, i.1)));
+        let own = Some(posterior(&d, &log, c));
         cells.push(Cell {
             truth,
-            lower: ln_bound(b.ci_lower.as_ref(), f64::NEG_INFINITY),
-            upper: ln_bound(b.ci_upper.as_ref(), f64::INFINITY),
+            lower: b.as_ref().map_or(f64::NAN, |b| {
+                ln_bound(b.ci_lower.as_ref(), f64::NEG_INFINITY)
+            }),
+            upper: b
+                .as_ref()
+                .map_or(f64::NAN, |b| ln_bound(b.ci_upper.as_ref(), f64::INFINITY)),
             jnd: analysis::jnd::model_threshold(&f, s.target).spp(),
             own,
         });
     }
     std::fs::remove_file(path)?;
-    Ok((ds.trials, cells))
+    Ok((ds.trials, known_next(&d, &log), cells))
 }
 
 fn own_condition_truth(o: &Observer, d: &Design, c: &[String; 3]) -> Result<f64> {
@@ -157,6 +182,21 @@ fn own_condition_truth(o: &Observer, d: &Design, c: &[String; 3]) -> Result<f64>
         .find(|x| x.scene == c[0] && x.point_set.to_string() == c[1])
         .context("condition")?;
     o.threshold(&cond).context("the observer has no threshold")
+}
+
+/// The QUEST+ model's posterior (default prior) from the log's trials of condition `c`: mean
+/// threshold and 95% interval in spp.
+fn posterior(d: &Design, log: &SessionLog, c: &[String; 3]) -> (f64, f64, f64) {
+    let mut levels = d.file.levels.clone();
+    levels.sort_unstable();
+    let mut q = QuestPlus::new(&levels, &QuestPlusSpec::default());
+    for t in log.main_trials().filter(|t| {
+        t.scene == c[0] && t.point_set.to_string() == c[1] && t.time_filter.to_string() == c[2]
+    }) {
+        q.update(levels.partition_point(|&l| l < t.level), t.correct);
+    }
+    let (mean, lo, hi) = q.ln_threshold();
+    (mean.exp(), lo.exp(), hi.exp())
 }
 
 fn ln_bound(b: Option<&Bound>, outside: f64) -> f64 {
@@ -209,8 +249,13 @@ fn row(name: &str, trials: f64, cells: &[Cell]) -> String {
         let b = median(own.iter().map(|o| o.1 / o.0 - 1.0).collect());
         format!("{w:.2}, {cov:.3}, {b:+.3}")
     };
+    let intervals = if cells.iter().any(|c| c.lower.is_nan()) {
+        "- | - | -".to_string()
+    } else {
+        format!("{width:.2} | {inside:.3} | {covered:.3}")
+    };
     format!(
-        "| {name} | {trials:.1} | {width:.2} | {inside:.3} | {covered:.3} | {:+.3} | {mean_bias:+.3} ({} of {}) | {own_text} |",
+        "| {name} | {trials:.1} | {intervals} | {:+.3} | {mean_bias:+.3} ({} of {}) | {own_text} |",
         median(bias.clone()),
         bias.len(),
         cells.len()
