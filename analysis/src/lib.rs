@@ -1,6 +1,7 @@
 //! From session logs to psychometric fits, JNDs with bootstrap intervals, t-tests and figures
 //! (thesis Chapter V).
 
+pub mod adaptive;
 pub mod bootstrap;
 pub mod cli;
 pub mod comparisons;

@@ -207,6 +207,9 @@ pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
     }
     let report = analyze(&ds, &settings);
     crate::output::write(&report, &args.out)?;
+    if let Some(d) = &design {
+        crate::adaptive::write(d, &ds.files, &report, &args.out)?;
+    }
     Ok(report)
 }
 

@@ -2,13 +2,15 @@
 //! pairs, `correct` agrees with `response` and `diff_pair`, the index lies inside the plan the
 //! header announces, a subject's logs are all of one mode (a person's or a simulated
 //! observer's), and — with `analyze --design` — the trial is the one the design plans for that
-//! subject and index (condition, level, stimuli, pairs) and its stimuli are ones the design's
+//! subject and index (condition, level, stimuli, pairs; for an adaptive procedure, the trial it
+//! gives after the subject's earlier answers, replayed) and its stimuli are ones the design's
 //! manifest lists, rendered for the trial's condition and level. A log written by the suite passes
 //! every check; a failed one means the file was edited, mixed or written elsewhere. Each
 //! finding names the file, the line and the field.
 
 use experiment::Design;
 use experiment::log::{SessionLog, TrialRecord};
+use experiment::procedure;
 use experiment::trials::{Trial, plan};
 use renderer::manifest::Manifest;
 use std::collections::HashMap;
@@ -40,7 +42,7 @@ pub fn check(
         // A log of another design is reported by the design-hash check, not trial by trial.
         let planned = design
             .filter(|d| d.hash == h.design_hash)
-            .map(|d| plan(d, &h.subject).main);
+            .map(|d| expected_main(d, log));
         for (ti, t) in log.trials.iter().enumerate().filter(|(_, t)| !t.practice) {
             let at = format!("{}:{}", log.path.display(), log.trial_lines[ti]);
             let mut problem = |message: String| {
@@ -90,6 +92,29 @@ pub fn check(
         }
     }
     found
+}
+
+/// The main trials the design puts in a log, by index: the constant-stimuli plan, or an
+/// adaptive procedure replayed over the log's answers up to and including the first trial it
+/// did not give (past that its state is unknown, so later trials have nothing to match).
+fn expected_main(d: &Design, log: &SessionLog) -> Vec<Trial> {
+    if d.file.procedure.is_constant() {
+        return plan(d, &log.header.subject).main;
+    }
+    let mut p = procedure::start(d, &log.header.subject);
+    let mut out = Vec::new();
+    for r in log.main_trials() {
+        let Some(t) = p.current().cloned() else {
+            break;
+        };
+        let same = t.matches(r);
+        out.push(t);
+        if !same {
+            break;
+        }
+        p.answer(r.correct);
+    }
+    out
 }
 
 /// How a trial's stimuli disagree with the manifest they were rendered into.
@@ -150,7 +175,8 @@ fn answer_problem(t: &TrialRecord) -> Option<String> {
 fn plan_problem(t: &TrialRecord, planned: Option<&Trial>, subject: &str) -> Option<String> {
     let Some(p) = planned else {
         return Some(format!(
-            "field `index` is {}; the design plans fewer main trials for subject {subject:?}",
+            "field `index` is {}; the design plans fewer main trials for subject {subject:?} (an \
+             adaptive procedure: or an earlier trial was not the one it gave)",
             t.index
         ));
     };
@@ -199,4 +225,69 @@ fn plan_problem(t: &TrialRecord, planned: Option<&Trial>, subject: &str) -> Opti
          {subject:?}",
         t.index
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use experiment::Observer;
+    use experiment::log::LogLine;
+    use std::path::Path;
+
+    const DESIGN: &str = r#"{
+        "format": "blurlab-design/1", "name": "adaptive", "manifest": "none",
+        "factors": {"scenes": ["plane", "spheres"], "point_sets": ["hammersley"],
+                    "time_filters": ["box"]},
+        "levels": [1, 8, 27, 64, 125], "seed": {"master": 5},
+        "procedure": {"quest_plus": {"trials": 10}}
+    }"#;
+
+    const OBSERVER: &str = r#"{"format": "blurlab-observer/1", "name": "o", "slope": 1.5,
+        "thresholds": [{"spp": 30}]}"#;
+
+    /// A simulated QUEST+ subject's log passes; a trial whose level was edited is found, and
+    /// the trials after it (whose expected level is unknown) are too.
+    #[test]
+    fn adaptive_logs_are_checked_against_the_procedure_replayed() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("design.json");
+        std::fs::write(&path, DESIGN).unwrap();
+        let design = Design::load(&path).unwrap();
+        let observer = Observer::parse(Path::new("o.json"), OBSERVER).unwrap();
+        let log_path = dir.path().join("s01.jsonl");
+        experiment::simulate::simulate_subject(&design, &observer, "s01", &log_path).unwrap();
+        let log = SessionLog::read(&log_path).unwrap();
+        assert_eq!(log.main_trials().count(), 20);
+        assert!(check(std::slice::from_ref(&log), Some(&design), None).is_empty());
+
+        let text = std::fs::read_to_string(&log_path).unwrap();
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        // Line 0 is the header, then 4 practice trials; edit main trial 5.
+        let k = 1 + 4 + 5;
+        let mut line: LogLine = serde_json::from_str(&lines[k]).unwrap();
+        let LogLine::Trial(t) = &mut line else {
+            panic!("line {k} is not a trial");
+        };
+        assert!(!t.practice && t.index == 5);
+        let other = if t.level == 1 { 8 } else { 1 };
+        t.test_stimulus = t
+            .test_stimulus
+            .replace(&format!("{:04}", t.level), &format!("{other:04}"));
+        t.level = other;
+        lines[k] = serde_json::to_string(&line).unwrap();
+        std::fs::write(&log_path, lines.join("\n") + "\n").unwrap();
+        let log = SessionLog::read(&log_path).unwrap();
+        let found = check(&[log], Some(&design), None);
+        assert_eq!(found.len(), 15, "{found:?}");
+        assert!(
+            found[0].message.contains("field `level`"),
+            "{}",
+            found[0].message
+        );
+        assert!(
+            found[1].message.contains("earlier trial"),
+            "{}",
+            found[1].message
+        );
+    }
 }

@@ -5,6 +5,7 @@
 //! file and the field of every problem.
 
 use crate::keys::{self, RESERVED_KEYS};
+use crate::procedure::ProcedureSpec;
 use anyhow::{Result, bail};
 use renderer::condition::{Condition, PointSetKind, TimeFilter};
 use renderer::paths::lexical_normal;
@@ -44,6 +45,9 @@ pub struct DesignFile {
     /// What the subject does on a trial; gives the analysis its guess rate.
     #[serde(default, skip_serializing_if = "Task::is_two_pair")]
     pub task: Task,
+    /// How the main trials' levels are chosen (default: constant stimuli, `levels` x `repeats`).
+    #[serde(default, skip_serializing_if = "ProcedureSpec::is_constant")]
+    pub procedure: ProcedureSpec,
     #[serde(default)]
     pub layout: Layout,
     #[serde(default)]
@@ -299,11 +303,17 @@ impl Design {
         }
     }
 
-    /// Main trials per subject.
+    /// Main trials per subject (an adaptive procedure's most: tracks that stop early give
+    /// up the rest).
     pub fn main_trial_count(&self) -> u32 {
         let f = &self.file.factors;
-        (f.scenes.len() * f.point_sets.len() * f.time_filters.len() * self.file.levels.len()) as u32
-            * self.file.repeats
+        let conditions = (f.scenes.len() * f.point_sets.len() * f.time_filters.len()) as u32;
+        let p = &self.file.procedure;
+        if p.is_constant() {
+            conditions * self.file.levels.len() as u32 * self.file.repeats
+        } else {
+            conditions * p.tracks_per_condition() * p.trials_per_track()
+        }
     }
 
     /// The instructions text, default or given.
@@ -406,7 +416,33 @@ fn validate(f: &DesignFile) -> Result<()> {
     if let Some(d) = &f.display {
         d.validate()?;
     }
+    adaptive(f)?;
     validate_keys(&f.keys)
+}
+
+/// An adaptive procedure's own fields, and its most trials per subject.
+fn adaptive(f: &DesignFile) -> Result<()> {
+    f.procedure.validate()?;
+    let p = &f.procedure;
+    let conditions = [
+        f.factors.scenes.len(),
+        f.factors.point_sets.len(),
+        f.factors.time_filters.len(),
+    ]
+    .iter()
+    .fold(1u64, |n, &k| n.saturating_mul(k as u64));
+    let trials = conditions
+        .saturating_mul(p.tracks_per_condition() as u64)
+        .saturating_mul(p.trials_per_track() as u64);
+    if trials > MAX_TRIALS {
+        bail!(
+            "field `procedure`: {conditions} conditions x {} tracks x {} trials plan {trials} main \
+             trials per subject; expected at most {MAX_TRIALS}",
+            p.tracks_per_condition(),
+            p.trials_per_track()
+        );
+    }
+    Ok(())
 }
 
 fn playback(p: &Playback) -> Result<()> {

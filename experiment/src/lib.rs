@@ -21,6 +21,7 @@ pub mod paths;
 pub mod predicted;
 pub mod preflight;
 pub mod presentation;
+pub mod procedure;
 pub mod refresh;
 pub mod session;
 pub mod simulate;

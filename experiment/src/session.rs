@@ -14,6 +14,7 @@
 use crate::design::{Design, Task};
 use crate::log::{Display, Header, LOG_FORMAT, LogLine, Resume, SessionLog, TrialRecord};
 use crate::log_writer::{Durability, LogWriter, whole_lines_len};
+use crate::procedure::{self, Procedure, TrackEstimate};
 use crate::trials::{self, Trial, TrialPlan};
 use anyhow::{Result, bail};
 use std::path::{Path, PathBuf};
@@ -26,7 +27,7 @@ pub enum Stage {
     Practice(usize),
     /// Practice is over; the main trials come next.
     PracticeDone,
-    /// Presenting main trial `i` (index into [`TrialPlan::main`]).
+    /// Presenting main trial `i` (the `i`-th the procedure gives).
     Trial(usize),
     Break,
     Finished,
@@ -68,6 +69,8 @@ pub struct Session {
     design: Design,
     subject: String,
     plan: TrialPlan,
+    /// Gives the main trials, one at a time, from the answers so far.
+    procedure: Box<dyn Procedure>,
     log_path: PathBuf,
     /// The log found at `open`, if it had a header.
     existing: Option<SessionLog>,
@@ -118,6 +121,7 @@ impl Session {
             design: design.clone(),
             subject: subject.to_string(),
             plan,
+            procedure: procedure::start(design, subject),
             log_path: log_path.to_path_buf(),
             existing: None,
             writer: None,
@@ -174,7 +178,9 @@ impl Session {
         Ok(())
     }
 
-    /// Every logged trial must be the planned one, in order: practice first, then main.
+    /// Every logged trial must be the one the design put there, in order: practice first, then
+    /// the main trials, which are replayed into the procedure (an adaptive one is then in the
+    /// state an uninterrupted session would have).
     fn check_trials(&mut self, log: &SessionLog) -> Result<()> {
         for r in &log.trials {
             let expected = if r.practice {
@@ -182,13 +188,14 @@ impl Session {
                     .then(|| self.plan.practice.get(self.practice_done))
                     .flatten()
             } else {
-                self.plan.main.get(self.main_done)
+                self.procedure.current()
             };
             match expected {
                 Some(t) if t.matches(r) => {
                     if r.practice {
                         self.practice_done += 1
                     } else {
+                        self.procedure.answer(r.correct);
                         self.main_done += 1
                     }
                 }
@@ -249,7 +256,7 @@ impl Session {
                 app_version: app_version(),
                 mode: info.mode,
                 started_unix: info.started_unix,
-                trials_planned: self.plan.main.len() as u32,
+                trials_planned: self.procedure.planned(),
                 display: info.display,
                 observer: info.observer,
             };
@@ -267,20 +274,22 @@ impl Session {
     pub fn trial(&self) -> Option<&Trial> {
         match self.stage {
             Stage::Practice(i) => self.plan.practice.get(i),
-            Stage::Trial(i) => self.plan.main.get(i),
+            Stage::Trial(_) => self.procedure.current(),
             _ => None,
         }
     }
 
-    /// The trial after the current one (what to load next), if any.
-    pub fn next_trial(&self) -> Option<&Trial> {
+    /// The trial after the current one (what to load next), if no answer to the current one
+    /// can change it.
+    pub fn next_trial(&self) -> Option<Trial> {
         match self.stage {
             Stage::Practice(i) => self
                 .plan
                 .practice
                 .get(i + 1)
-                .or_else(|| self.plan.main.get(self.main_done)),
-            Stage::Trial(i) => self.plan.main.get(i + 1),
+                .or_else(|| self.procedure.current())
+                .cloned(),
+            Stage::Trial(_) => self.procedure.after_current(),
             _ => None,
         }
     }
@@ -298,7 +307,7 @@ impl Session {
     fn next_trial_stage(&self) -> Stage {
         if self.main_done == 0 && self.practice_done < self.plan.practice.len() {
             Stage::Practice(self.practice_done)
-        } else if self.main_done < self.plan.main.len() {
+        } else if self.procedure.current().is_some() {
             Stage::Trial(self.main_done)
         } else {
             Stage::Finished
@@ -327,15 +336,16 @@ impl Session {
             self.practice_done += 1;
             if self.practice_done < self.plan.practice.len() {
                 Stage::Practice(self.practice_done)
-            } else if self.plan.main.is_empty() {
+            } else if self.procedure.current().is_none() {
                 Stage::Finished
             } else {
                 Stage::PracticeDone
             }
         } else {
+            self.procedure.answer(answered.correct);
             self.main_done += 1;
             let every = self.design.file.break_every as usize;
-            if self.main_done == self.plan.main.len() {
+            if self.procedure.current().is_none() {
                 Stage::Finished
             } else if every > 0 && self.main_done.is_multiple_of(every) {
                 Stage::Break
@@ -346,18 +356,23 @@ impl Session {
         Ok(answered)
     }
 
-    /// Main trials answered and planned.
+    /// Main trials answered and planned (an adaptive procedure's most).
     pub fn progress(&self) -> (usize, usize) {
-        (self.main_done, self.plan.main.len())
+        (self.main_done, self.procedure.planned() as usize)
     }
 
     pub fn practice_progress(&self) -> (usize, usize) {
         (self.practice_done, self.plan.practice.len())
     }
 
-    /// Every main trial is answered.
+    /// Every main trial is answered (the procedure has no more).
     pub fn is_complete(&self) -> bool {
-        self.main_done == self.plan.main.len()
+        self.procedure.current().is_none()
+    }
+
+    /// The adaptive tracks' estimates so far (empty for constant stimuli).
+    pub fn estimates(&self) -> Vec<TrackEstimate> {
+        self.procedure.estimates()
     }
 
     /// The session continues an earlier log.
@@ -370,6 +385,8 @@ impl Session {
         &self.warnings
     }
 
+    /// The practice trials and the constant-stimuli list (an adaptive procedure's main trials
+    /// are not planned: see [`Session::trial`]).
     pub fn plan(&self) -> &TrialPlan {
         &self.plan
     }

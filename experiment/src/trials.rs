@@ -78,7 +78,7 @@ const STREAM_PRACTICE: u64 = 3;
 
 /// (diff pair, test side) in an order where each aligned pair ({0,1}, {2,3}) is a "diagonal"
 /// (balanced on both factors) and every prefix of the cycle is balanced to within one.
-const COMBOS: [(u8, Side); 4] = [
+pub(crate) const COMBOS: [(u8, Side); 4] = [
     (1, Side::Left),
     (2, Side::Right),
     (1, Side::Right),
@@ -109,7 +109,12 @@ pub fn plan(design: &Design, subject: &str) -> TrialPlan {
     }
 }
 
-fn make_trial(design: &Design, condition: &Condition, level: u32, combo: (u8, Side)) -> Trial {
+pub(crate) fn make_trial(
+    design: &Design,
+    condition: &Condition,
+    level: u32,
+    combo: (u8, Side),
+) -> Trial {
     Trial {
         index: 0,
         practice: false,

@@ -137,7 +137,8 @@ impl SessionApp {
     /// Once a presentation is over, load the next trial's videos while the subject answers
     /// (never during playback, where decoding would compete with frame pacing).
     fn start_prefetch(&mut self) {
-        self.cache.start_prefetch(self.session.next_trial());
+        self.cache
+            .start_prefetch(self.session.next_trial().as_ref());
     }
 
     /// Upload prefetched frames a few at a time while nothing moves on screen.
