@@ -75,9 +75,13 @@ pub struct PredictArgs {
     /// Output folder [default: results/<job>/predict].
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Sensitivity constant k (d' = k Q; 1 = the CSF's threshold is d' = 1).
+    /// Sensitivity constant k (d' = k Q) [default: the fit to ModelFest].
     #[arg(long, default_value_t = DEFAULT_K)]
     pub sensitivity: f64,
+    /// Viewing distance in metres, over the design's display block or the default display
+    /// (e.g. 0.7, the distance of the manifest's FLIP measurement).
+    #[arg(long)]
+    pub distance_m: Option<f64>,
     /// Fit k to these sessions (folders or logs) by maximum likelihood, report the
     /// leave-one-condition-out error, and write the prediction with the fitted k.
     #[arg(long, num_args = 1..)]
@@ -103,10 +107,16 @@ pub fn run(args: &PredictArgs) -> Result<Outcome> {
     }
     let design = args.design.as_deref().map(Design::load).transpose()?;
     let settings = PredictSettings {
-        display: design
-            .as_ref()
-            .and_then(|d| d.file.display.clone())
-            .unwrap_or_default(),
+        display: {
+            let mut d: experiment::display::DisplaySpec = design
+                .as_ref()
+                .and_then(|d| d.file.display.clone())
+                .unwrap_or_default();
+            if let Some(m) = args.distance_m {
+                d.distance_m = m;
+            }
+            d
+        },
         k: args.sensitivity,
     };
     let bar = Terminal::new(Look::Steps, !args.no_progress);
