@@ -94,6 +94,7 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         design: Some(root.join(DESIGN)),
         out: Some(out.join("predict")),
         sensitivity: analysis::predict::decision::DEFAULT_K,
+        distance_m: None,
         calibrate: Vec::new(),
         no_progress: args.no_progress,
     })?;

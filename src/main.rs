@@ -25,7 +25,7 @@ enum Command {
     Analyze(analysis::cli::AnalyzeArgs),
     /// Predict how visible each stimulus's noise is from its display frames (contrast
     /// sensitivity, masking, pooling, the two-pair task): predicted.csv, JNDs, figures.
-    Predict(analysis::predict::command::PredictArgs),
+    Predict(analysis::predict::command::PredictCli),
     /// How many subjects a design needs: simulate it many times with a known observer and
     /// analyse each simulation (interval widths, power, false positives, session length).
     Plan(analysis::plan::command::PlanArgs),
@@ -53,7 +53,17 @@ fn demo(args: &blurlab::demo::DemoArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn predict(args: &analysis::predict::command::PredictArgs) -> anyhow::Result<()> {
+fn predict(cli: &analysis::predict::command::PredictCli) -> anyhow::Result<()> {
+    use analysis::predict::command::{PredictCommand, ValidateData};
+    let args = match (&cli.command, &cli.args) {
+        (Some(PredictCommand::Validate { data }), _) => {
+            let ValidateData::Modelfest(m) = data;
+            println!("{}", analysis::predict::command::validate_modelfest(m)?);
+            return Ok(());
+        }
+        (None, Some(args)) => args,
+        (None, None) => anyhow::bail!("blurlab predict: give a stimulus set or a subcommand"),
+    };
     let out = analysis::predict::command::run(args)?;
     if let Some(c) = &out.calibration {
         println!("calibrated sensitivity constant k = {:.4}", c.k);

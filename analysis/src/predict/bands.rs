@@ -1,8 +1,9 @@
 //! Spatial frequency analysis of a frame: a 2D FFT (rustfft), the radial frequency of every
 //! coefficient in cycles per degree, octave bands, and the CSF-weighted band filters.
 //!
-//! Bands: centres rho_b = (ppd / 2) 2^-b (the top band at the Nyquist frequency), down to about
-//! three cycles per video; windows cos^2(pi/2 log2(rho / rho_b)) between neighbouring centres,
+//! Bands: centres rho_b = (ppd / 2) 2^-b (the top band at the Nyquist frequency), down to the
+//! last at or above [`LOWEST_CENTRE_CPD`], whatever the picture's size (so a border around a
+//! picture adds no band and splits none); windows cos^2(pi/2 log2(rho / rho_b)) between neighbouring centres,
 //! so the bands sum to exactly 1 at every frequency (the top band keeps everything above its
 //! centre, the bottom band everything below, the mean included). Filtering in the frequency
 //! domain makes the frame periodic: content near one edge leaks into the opposite edge's
@@ -103,11 +104,14 @@ pub fn radial_frequencies(width: usize, height: usize, ppd: f64) -> Vec<f64> {
     out
 }
 
+/// The lowest band centre is the last octave at or above this frequency, cpd: ModelFest's 256
+/// pixels at 120 ppd get the six bands that three cycles per picture gave them before the
+/// centres were fixed, 60 down to 1.9 cpd.
+pub const LOWEST_CENTRE_CPD: f64 = 1.0;
+
 /// Band centres in cpd, finest first.
-pub fn band_centres(width: usize, height: usize, ppd: f64) -> Vec<f64> {
-    // The coarsest centre stays at or above 3 cycles per video side.
-    let min_side = width.min(height).max(1) as f64;
-    let count = ((min_side / 6.0).log2().floor() as i64 + 1).max(1) as usize;
+pub fn band_centres(ppd: f64) -> Vec<f64> {
+    let count = (((0.5 * ppd / LOWEST_CENTRE_CPD).log2().floor() as i64) + 1).max(1) as usize;
     (0..count)
         .map(|b| 0.5 * ppd / 2f64.powi(b as i32))
         .collect()
@@ -135,8 +139,10 @@ mod tests {
 
     #[test]
     fn windows_partition_unity() {
-        let c = band_centres(96, 96, 39.5);
+        let c = band_centres(39.5);
         assert_eq!(c.len(), 5);
+        assert_eq!(band_centres(120.0).len(), 6);
+        assert!((band_centres(120.0)[5] - 1.875).abs() < 1e-12);
         for i in 0..2000 {
             let rho = i as f64 * 0.02;
             let s: f64 = (0..c.len()).map(|b| window(&c, b, rho)).sum();

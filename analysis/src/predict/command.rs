@@ -1,5 +1,6 @@
 //! `blurlab predict <stimulus set>`: the command line over [`super::stimuli::predict`],
-//! [`super::output::write`] and [`super::calibrate`].
+//! [`super::output::write`] and [`super::calibrate`]; `blurlab predict validate modelfest DIR`
+//! over [`super::validate`].
 
 use super::calibrate::{Calibration, calibrate, cells, markdown};
 use super::decision::DEFAULT_K;
@@ -7,10 +8,60 @@ use super::output::{Files, write};
 use super::stimuli::{PredictSettings, Prediction, predict, with_k};
 use crate::data::Dataset;
 use anyhow::{Result, bail};
-use clap::Args;
+use clap::{Args, Subcommand};
 use experiment::Design;
 use renderer::progress::terminal::{Look, Terminal};
 use std::path::PathBuf;
+
+/// `blurlab predict`: a stimulus set's prediction, or a validation subcommand.
+#[derive(Args, Clone, Debug)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct PredictCli {
+    #[command(subcommand)]
+    pub command: Option<PredictCommand>,
+    #[command(flatten)]
+    pub args: Option<PredictArgs>,
+}
+
+#[derive(Subcommand, Clone, Debug)]
+pub enum PredictCommand {
+    /// Run the model on human detection data, fit its free parameters (k, the pooling
+    /// exponents) and report the error per stimulus, per family, overall and leave-one-out.
+    Validate {
+        #[command(subcommand)]
+        data: ValidateData,
+    },
+}
+
+#[derive(Subcommand, Clone, Debug)]
+pub enum ValidateData {
+    /// ModelFest's 43 stimuli and 16 observers' thresholds (analysis/tests/data/modelfest).
+    Modelfest(ModelfestArgs),
+}
+
+#[derive(Args, Clone, Debug)]
+pub struct ModelfestArgs {
+    /// The ModelFest folder (stimuli.json, thresholds.csv, stimuli/*.png).
+    pub dir: PathBuf,
+    /// Also write the report to this file (Markdown).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Hide the progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+/// Validate against ModelFest; returns the report (its last line the RMS error).
+pub fn validate_modelfest(args: &ModelfestArgs) -> Result<String> {
+    let stimuli = super::modelfest::load(&args.dir)?;
+    let bar = Terminal::new(Look::Steps, !args.no_progress);
+    let r = super::validate::responses(&stimuli, &super::validate::grid(), &bar)?;
+    let report = super::validate::markdown(&super::validate::validate(&stimuli, &r)?);
+    if let Some(out) = &args.out {
+        renderer::atomic::write_atomic(out, format!("{report}\n").as_bytes())?;
+    }
+    Ok(report)
+}
 
 /// Predict how visible each stimulus's noise is, from its display frames.
 #[derive(Args, Clone, Debug)]
@@ -24,9 +75,13 @@ pub struct PredictArgs {
     /// Output folder [default: results/<job>/predict].
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Sensitivity constant k (d' = k Q; 1 = the CSF's threshold is d' = 1).
+    /// Sensitivity constant k (d' = k Q) [default: the fit to ModelFest].
     #[arg(long, default_value_t = DEFAULT_K)]
     pub sensitivity: f64,
+    /// Viewing distance in metres, over the design's display block or the default display
+    /// (e.g. 0.7, the distance of the manifest's FLIP measurement).
+    #[arg(long)]
+    pub distance_m: Option<f64>,
     /// Fit k to these sessions (folders or logs) by maximum likelihood, report the
     /// leave-one-condition-out error, and write the prediction with the fitted k.
     #[arg(long, num_args = 1..)]
@@ -52,10 +107,16 @@ pub fn run(args: &PredictArgs) -> Result<Outcome> {
     }
     let design = args.design.as_deref().map(Design::load).transpose()?;
     let settings = PredictSettings {
-        display: design
-            .as_ref()
-            .and_then(|d| d.file.display.clone())
-            .unwrap_or_default(),
+        display: {
+            let mut d: experiment::display::DisplaySpec = design
+                .as_ref()
+                .and_then(|d| d.file.display.clone())
+                .unwrap_or_default();
+            if let Some(m) = args.distance_m {
+                d.distance_m = m;
+            }
+            d
+        },
         k: args.sensitivity,
     };
     let bar = Terminal::new(Look::Steps, !args.no_progress);

@@ -9,12 +9,14 @@
 //! | `temporal` | sustained and transient channels as filters over looped frames |
 //! | `bands` | 2D FFT, octave bands, CSF weighting |
 //! | `masking` | threshold elevation by the reference's contrast |
-//! | `pooling` | Minkowski pooling over channels, space and time |
+//! | `pooling` | Minkowski pooling over channels, space and time (fitted exponent) |
 //! | `video` | the model on one test/reference pair, frame by frame |
-//! | `decision` | the two-pair task's proportion correct from d' (with its simulation) |
+//! | `decision` | proportion correct from d': the two-pair task and 2IFC (with simulations) |
 //! | `stimuli` | a whole stimulus set: rows of `predicted.csv`, JNDs per condition |
 //! | `output` | `predicted.csv`, `predicted_jnd.csv`, `predict.md`, a figure per scene |
 //! | `calibrate` | the sensitivity constant fitted to real sessions, leave-one-condition-out |
+//! | `modelfest` | the ModelFest data set loaded and run through the pipeline |
+//! | `validate` | k and the pooling exponent fitted to ModelFest, errors and leave-one-out |
 //!
 //! `docs/predict.md` describes the model, its choices and what it cannot know.
 
@@ -26,8 +28,10 @@ pub mod csf;
 pub mod decision;
 pub mod display;
 pub mod masking;
+pub mod modelfest;
 pub mod output;
 pub mod pooling;
 pub mod stimuli;
 pub mod temporal;
+pub mod validate;
 pub mod video;

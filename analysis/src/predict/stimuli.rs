@@ -9,7 +9,7 @@
 
 use super::decision::two_pair_p_correct;
 use super::display::Display;
-use super::pooling::video_q;
+use super::pooling::{FITTED, video_q};
 use super::video::{Filters, Viewing, frame_differences};
 use crate::jnd::Threshold;
 use anyhow::{Context, Result, bail};
@@ -224,13 +224,16 @@ fn predict_pair(
         // A black reference has no adaptation level; the floor of the local adaptation applies.
         mean_luminance: mean.max(super::video::ADAPTATION_FLOOR as f64),
     };
-    let mut filters = Filters::new(viewing)?;
-    let q_frames = frame_differences(&mut filters, |i| {
+    let mut filters = Filters::new(viewing, FITTED.channels)?;
+    let q_frames: Vec<f64> = frame_differences(&mut filters, &[FITTED.space], |i| {
         Ok((
             display.luminance(&load_frame(test, i)?.rgb),
             display.luminance(&load_frame(reference, i)?.rgb),
         ))
-    })?;
+    })?
+    .into_iter()
+    .map(|q| q[0])
+    .collect();
     Ok(StimulusPrediction {
         row: row(p, &q_frames, k),
         q_frames,
@@ -240,7 +243,7 @@ fn predict_pair(
 
 /// A CSV row from a pair's per-frame Q.
 fn row(p: &Pair, q_frames: &[f64], k: f64) -> PredictedRow {
-    let q = video_q(q_frames);
+    let q = video_q(q_frames, FITTED.space);
     let mut pf: Vec<f64> = q_frames
         .iter()
         .map(|&qt| two_pair_p_correct(k * qt))

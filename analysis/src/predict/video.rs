@@ -8,9 +8,10 @@
 //! 3. temporal channels: sustained and transient filters over the looped frames
 //!    ([`super::temporal`]);
 //! 4. spatial bands, each weighted per frequency by its channel's CSF at the reference's mean
-//!    luminance and the video's area ([`super::bands`], [`super::csf`]): d_{b,k} and m_{b,k};
+//!    luminance and a fixed area ([`CSF_AREA_DEG2`]) ([`super::bands`], [`super::csf`]): d_{b,k} and m_{b,k};
 //! 5. masking, d_{b,k} / T_e(m_{b,k}) ([`super::masking`]);
-//! 6. pooling over bands and channels, then space, per frame ([`super::pooling`]).
+//! 6. pooling over bands and channels, then a Minkowski sum over space, per frame
+//!    ([`super::pooling`]).
 //!
 //! Each signal's two channels travel packed as one complex image (e_S + i e_T, c_S + i c_T):
 //! every filter is real and even in frequency, so one transform serves both channels (half the
@@ -20,7 +21,7 @@
 use super::bands::{Fft2, band_centres, radial_frequencies, window};
 use super::csf::{SUSTAINED, TRANSIENT, spatial, sustained_response, transient_response};
 use super::masking::threshold_elevation;
-use super::pooling::FramePool;
+use super::pooling::{ChannelSums, Grid};
 use super::temporal::{Kernel, kernel};
 use anyhow::{Result, bail};
 use rustfft::num_complex::Complex32;
@@ -30,6 +31,12 @@ use std::collections::BTreeMap;
 pub const ADAPTATION_SIGMA_DEG: f64 = 0.5;
 /// Lowest adaptation luminance, cd/m^2 (below it Weber contrast is not a model of vision).
 pub const ADAPTATION_FLOOR: f32 = 1.0;
+/// The stimulus area at which the CSF is evaluated, deg^2: ModelFest's field (256 pixels at
+/// 120 ppd, 2.133 deg square), the data the pooling was fitted on. stelaCSF's area term is
+/// spatial summation; the Minkowski pooling ([`super::pooling`]) now sums over the picture,
+/// so the CSF keeps the area of the data that fitted that summation instead of the video's
+/// (which would count the summation twice on a large video).
+pub const CSF_AREA_DEG2: f64 = (256.0 / 120.0) * (256.0 / 120.0);
 
 /// The size and timing of a video pair, and the viewing conditions.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,25 +50,24 @@ pub struct Viewing {
     pub mean_luminance: f64,
 }
 
-impl Viewing {
-    /// The video's area in deg^2 (the CSF's stimulus area).
-    pub fn area_deg2(&self) -> f64 {
-        (self.width * self.height) as f64 / self.pixels_per_degree.powi(2)
-    }
-}
-
 /// Everything that depends only on the viewing: transforms, weights, kernels.
 pub struct Filters {
     viewing: Viewing,
     fft: Fft2,
     adaptation: Vec<f32>,
-    /// Per band, per channel (sustained, transient): window x CSF / (width height).
+    /// Per band, per channel (sustained, transient): window^(1/beta_c) x CSF / (width height).
     bands: Vec<[Vec<f32>; 2]>,
+    /// beta_c, the Minkowski exponent over bands and channels ([`super::pooling`]).
+    channel_exponent: f64,
     kernels: [Kernel; 2],
 }
 
 impl Filters {
-    pub fn new(v: Viewing) -> Result<Self> {
+    /// The filters of a viewing, for pooling over bands and channels with exponent
+    /// `channel_exponent` (beta_c): each band's window is raised to 1 / beta_c, so the windows'
+    /// beta_c-th powers sum to 1 and a grating between two band centres pools to its
+    /// CSF-weighted contrast as one at a centre does (no ripple over frequency).
+    pub fn new(v: Viewing, channel_exponent: f64) -> Result<Self> {
         if v.width == 0 || v.height == 0 || v.frames == 0 {
             bail!(
                 "a video of {}x{} pixels and {} frames has nothing to compare",
@@ -70,18 +76,23 @@ impl Filters {
                 v.frames
             );
         }
+        if channel_exponent.is_nan() || channel_exponent < 1.0 {
+            bail!(
+                "the pooling exponent over bands and channels is {channel_exponent}; expected >= 1"
+            );
+        }
         if !(v.fps > 0.0 && v.pixels_per_degree > 0.0 && v.mean_luminance > 0.0) {
             bail!("frame rate, pixels per degree and mean luminance must be positive: {v:?}");
         }
         let n = (v.width * v.height) as f64;
         let rho = radial_frequencies(v.width, v.height, v.pixels_per_degree);
-        let centres = band_centres(v.width, v.height, v.pixels_per_degree);
+        let centres = band_centres(v.pixels_per_degree);
         let two_pi2_s2 = 2.0 * std::f64::consts::PI.powi(2) * ADAPTATION_SIGMA_DEG.powi(2);
         let adaptation = rho
             .iter()
             .map(|r| ((-two_pi2_s2 * r * r).exp() / n) as f32)
             .collect();
-        let (l, a) = (v.mean_luminance, v.area_deg2());
+        let (l, a) = (v.mean_luminance, CSF_AREA_DEG2);
         let csf: [Vec<f64>; 2] =
             [SUSTAINED, TRANSIENT].map(|m| rho.iter().map(|&r| spatial(&m, r, l, a)).collect());
         let bands = (0..centres.len())
@@ -89,7 +100,10 @@ impl Filters {
                 [0, 1].map(|k| {
                     rho.iter()
                         .zip(&csf[k])
-                        .map(|(&r, &s)| (window(&centres, b, r) * s / n) as f32)
+                        .map(|(&r, &s)| {
+                            let w = window(&centres, b, r).powf(1.0 / channel_exponent);
+                            (w * s / n) as f32
+                        })
                         .collect()
                 })
             })
@@ -99,6 +113,7 @@ impl Filters {
             fft: Fft2::new(v.width, v.height),
             adaptation,
             bands,
+            channel_exponent,
             kernels: [
                 kernel(sustained_response, v.frames, v.fps),
                 kernel(transient_response, v.frames, v.fps),
@@ -146,12 +161,15 @@ impl Filters {
     }
 }
 
-/// Per-frame visible difference Q_t of a video pair; `load(t)` gives frame t's luminance
-/// (test, reference). Frames are loaded as the temporal window reaches them and dropped after.
+/// Per-frame visible difference Q_t of a video pair, for each space exponent of `space`
+/// (`out[t][i]` for `space[i]`; the filters hold the channel exponent); `load(t)` gives frame
+/// t's luminance (test, reference). Frames are loaded as the temporal window reaches them and
+/// dropped after.
 pub fn frame_differences(
     filters: &mut Filters,
+    space: &[f64],
     mut load: impl FnMut(usize) -> Result<(Vec<f32>, Vec<f32>)>,
-) -> Result<Vec<f64>> {
+) -> Result<Vec<Vec<f64>>> {
     let v = filters.viewing;
     let f = v.frames as i64;
     let pixels = v.width * v.height;
@@ -171,7 +189,12 @@ pub fn frame_differences(
     let mut c_pack = vec![Complex32::default(); pixels];
     let mut e_band = vec![Complex32::default(); pixels];
     let mut c_band = vec![Complex32::default(); pixels];
-    let mut d = vec![0f32; pixels];
+    let grid = Grid {
+        channels: vec![filters.channel_exponent],
+        space: space.to_vec(),
+    };
+    let mut sums = ChannelSums::new(&grid.channels, pixels);
+    let (mut sustained, mut transient) = (vec![0f32; pixels], vec![0f32; pixels]);
     for t in 0..f {
         let needed: Vec<usize> = offsets
             .iter()
@@ -192,7 +215,7 @@ pub fn frame_differences(
                 slot.insert(z);
             }
         }
-        d.iter_mut().for_each(|x| *x = 0.0);
+        sums.clear();
         // The difference's two channels packed as e_S + i e_T, the reference's as c_S + i c_T.
         e_pack.iter_mut().for_each(|z| *z = Complex32::default());
         c_pack.iter_mut().for_each(|z| *z = Complex32::default());
@@ -215,14 +238,18 @@ pub fn frame_differences(
         for b in 0..filters.bands.len() {
             filters.band(&e_pack, b, &mut e_band);
             filters.band(&c_pack, b, &mut c_band);
-            for ((acc, e), c) in d.iter_mut().zip(&e_band).zip(&c_band) {
-                *acc +=
-                    e.re.abs() / threshold_elevation(c.re) + e.im.abs() / threshold_elevation(c.im);
+            for (((s, t), e), c) in sustained
+                .iter_mut()
+                .zip(transient.iter_mut())
+                .zip(&e_band)
+                .zip(&c_band)
+            {
+                *s = e.re / threshold_elevation(c.re);
+                *t = e.im / threshold_elevation(c.im);
             }
+            sums.add(&sustained, &transient);
         }
-        let mut pool = FramePool::default();
-        pool.add_map(&d);
-        out.push(pool.q());
+        out.push(sums.frame_q(&grid, v.pixels_per_degree));
     }
     Ok(out)
 }
@@ -230,6 +257,7 @@ pub fn frame_differences(
 #[cfg(test)]
 mod tests {
     use super::super::csf::sensitivity;
+    use super::super::pooling::{Exponents, FITTED};
     use super::*;
     use std::f64::consts::PI;
 
@@ -244,11 +272,11 @@ mod tests {
         }
     }
 
-    /// Q of a drifting grating of contrast `c`, `cycles` per video width, `j` cycles per loop
-    /// of `frames` frames, on a uniform reference of 100 cd/m^2.
-    fn grating_q(v: Viewing, c: f64, cycles: f64, j: f64) -> f64 {
-        let mut filters = Filters::new(v).unwrap();
-        let q = frame_differences(&mut filters, |t| {
+    /// Q (exponents `e`) of a drifting grating of contrast `c`, `cycles` per video width,
+    /// `j` cycles per loop of `frames` frames, on a uniform reference of 100 cd/m^2.
+    fn grating_q(v: Viewing, c: f64, cycles: f64, j: f64, e: Exponents) -> f64 {
+        let mut filters = Filters::new(v, e.channels).unwrap();
+        let q = frame_differences(&mut filters, &[e.space], |t| {
             let reference = vec![100f32; v.width * v.height];
             let test = (0..v.width * v.height)
                 .map(|i| {
@@ -260,34 +288,100 @@ mod tests {
             Ok((test, reference))
         })
         .unwrap();
-        super::super::pooling::video_q(&q)
+        let q: Vec<f64> = q.iter().map(|f| f[0]).collect();
+        super::super::pooling::video_q(&q, e.space)
     }
 
     #[test]
     fn a_drifting_grating_gives_the_csf_weighted_contrast() {
-        // 8 frames at 30 fps: temporal frequencies are multiples of 3.75 Hz.
+        // 8 frames at 30 fps: temporal frequencies are multiples of 3.75 Hz. With space
+        // exponent 2 the pooled D = S c |cos| integrates to (S c)^2 A / 2 over the video's
+        // A deg^2, at any channel exponent: 6 and 12 cycles (3 and 6 cpd) fall between band
+        // centres (2, 4, 8 cpd), where a window not matched to the exponent would ripple.
         let v = viewing(8);
-        for (cycles, j) in [(2.0, 0.0), (4.0, 1.0), (8.0, 2.0), (16.0, 1.0), (4.0, 4.0)] {
-            let rho = cycles * v.pixels_per_degree / v.width as f64;
-            let omega = j * v.fps / v.frames as f64;
-            let s = sensitivity(rho, omega, 100.0, v.area_deg2());
-            let c = 0.5 / s;
-            let q = grating_q(v, c, cycles, j);
-            assert!((q - 0.5).abs() < 0.5 * 2e-3, "{rho} cpd {omega} Hz: {q}");
+        let area = (v.width * v.height) as f64 / v.pixels_per_degree.powi(2);
+        for channels in [1.0, 2.0, 3.0] {
+            let e = Exponents {
+                channels,
+                space: 2.0,
+            };
+            for (cycles, j) in [
+                (2.0, 0.0),
+                (4.0, 1.0),
+                (6.0, 0.0),
+                (8.0, 2.0),
+                (12.0, 1.0),
+                (16.0, 1.0),
+                (4.0, 4.0),
+            ] {
+                let rho = cycles * v.pixels_per_degree / v.width as f64;
+                let omega = j * v.fps / v.frames as f64;
+                let s = sensitivity(rho, omega, 100.0, CSF_AREA_DEG2);
+                let q = grating_q(v, 0.5 / s, cycles, j, e);
+                let want = 0.5 * (area / 2.0).sqrt();
+                assert!(
+                    (q - want).abs() < want * 2e-3,
+                    "{e:?} {rho} cpd {omega} Hz: {q}"
+                );
+            }
+        }
+    }
+
+    /// Q of a static Gabor patch (4 cycles per 64 pixels, sd 8 pixels) in the middle of a
+    /// `side`-pixel uniform field.
+    fn gabor_q(side: usize, e: Exponents) -> f64 {
+        let v = Viewing {
+            width: side,
+            height: side,
+            ..viewing(2)
+        };
+        let mut filters = Filters::new(v, e.channels).unwrap();
+        let mid = side as f64 / 2.0;
+        let q = frame_differences(&mut filters, &[e.space], |_| {
+            let test = (0..side * side)
+                .map(|i| {
+                    let (x, y) = ((i % side) as f64 - mid, (i / side) as f64 - mid);
+                    let g = (-(x * x + y * y) / (2.0 * 64.0)).exp();
+                    (100.0 * (1.0 + 0.01 * g * (2.0 * PI * x / 16.0).cos())) as f32
+                })
+                .collect();
+            Ok((test, vec![100f32; side * side]))
+        })
+        .unwrap();
+        super::super::pooling::video_q(&q.iter().map(|f| f[0]).collect::<Vec<_>>(), e.space)
+    }
+
+    #[test]
+    fn a_noise_free_border_never_lowers_the_visible_difference() {
+        // The same patch (+-4 sd inside the small field, so that the periodic filtering does
+        // not wrap it) in a field 2 and 4 times as wide, the border at the reference's
+        // luminance: the mean pooling of old gave 1/2 and 1/4 of the small field's Q. The
+        // band filters reach past the patch and wrap around the small field (periodic), which
+        // moves Q by up to 2e-4 either way: the tolerance.
+        for (channels, space) in [(1.0, 1.5), (1.0, 3.0), (2.0, 2.0), (2.0, 4.0), (3.0, 2.6)] {
+            let e = Exponents { channels, space };
+            let small = gabor_q(64, e);
+            for side in [128, 256] {
+                let big = gabor_q(side, e);
+                assert!(
+                    big >= small * (1.0 - 1e-3),
+                    "{e:?}, {side} px: {big} < {small}"
+                );
+            }
         }
     }
 
     #[test]
     fn identical_videos_have_no_visible_difference() {
         let v = viewing(3);
-        let mut filters = Filters::new(v).unwrap();
-        let q = frame_differences(&mut filters, |t| {
+        let mut filters = Filters::new(v, FITTED.channels).unwrap();
+        let q = frame_differences(&mut filters, &[FITTED.space], |t| {
             let f: Vec<f32> = (0..64 * 64)
                 .map(|i| ((i * 7 + t * 13) % 255) as f32)
                 .collect();
             Ok((f.clone(), f))
         })
         .unwrap();
-        assert_eq!(q, vec![0.0; 3]);
+        assert_eq!(q, vec![vec![0.0]; 3]);
     }
 }

@@ -1,0 +1,219 @@
+//! The ModelFest data set (Carney et al. 1999; Watson & Ahumada 2005, JOV 5(9):6): 43 foveal
+//! detection stimuli with 16 observers' thresholds, loaded from the folder layout of
+//! `analysis/tests/data/modelfest/` (its README gives the provenance), and each stimulus run
+//! through the model's own pipeline ([`super::video`]) under ModelFest's viewing conditions.
+//!
+//! A stimulus is a contrast image c(x) (background 0, peak |c| = 1) shown at peak contrast C
+//! with ModelFest's time course: L(x, t) = L0 (1 + C g(t) c(x)), L0 = 30 cd/m^2, 120 pixels
+//! per degree, g a Gaussian of sd 0.125 s cut to the central 0.5 s. The model sees it as a
+//! 1 s video at 30 fps (the suite's frame rate, so the temporal channels are the suite's; the
+//! time course has no energy above 4 Hz, far below the 15 Hz Nyquist limit) holding one
+//! presentation, against the uniform field L0. On a uniform reference nothing masks and the
+//! local adaptation is L0, so Q grows linearly with C: the model's threshold is the C at which
+//! k Q reaches the 2IFC 84% point ([`super::decision::two_ifc_d_prime_for`]).
+
+use super::pooling::Grid;
+use super::video::{Filters, Viewing, frame_differences};
+use anyhow::{Context, Result, bail};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Mean luminance of the ModelFest display, cd/m^2.
+pub const MEAN_LUMINANCE: f64 = 30.0;
+/// Pixels per degree of the ModelFest display.
+pub const PIXELS_PER_DEGREE: f64 = 120.0;
+/// Standard deviation of the Gaussian time course, seconds.
+pub const TIME_SD: f64 = 0.125;
+/// The time course's duration, seconds (the Gaussian is cut outside it).
+pub const DURATION: f64 = 0.5;
+/// Frame rate and length of the video the model sees.
+pub const FPS: f64 = 30.0;
+pub const VIDEO_SECONDS: f64 = 1.0;
+/// ModelFest's threshold criterion, proportion correct in 2IFC.
+pub const CRITERION: f64 = 0.84;
+/// The peak contrast the pipeline is run at (Q is linear in it; any small value gives the same
+/// sensitivity).
+const PROBE_CONTRAST: f64 = 0.01;
+
+/// One stimulus with its measured threshold.
+#[derive(Clone, Debug)]
+pub struct Stimulus {
+    pub number: u32,
+    pub name: String,
+    /// The name without its trailing number ("GaborPatch", "Gaussians", ...).
+    pub family: String,
+    pub width: usize,
+    pub height: usize,
+    /// c(x), row-major, scaled to peak |c| = 1.
+    pub contrast: Vec<f32>,
+    /// Mean over observers and repeats of log10(1 / threshold peak contrast).
+    pub measured: f64,
+    /// Number of (observer, repeat) thresholds averaged.
+    pub observations: usize,
+}
+
+/// An entry of `stimuli.json`.
+#[derive(Deserialize)]
+struct Entry {
+    number: u32,
+    name: String,
+    file: PathBuf,
+}
+
+/// A row of `thresholds.csv`.
+#[derive(Deserialize)]
+struct Row {
+    stimulus: u32,
+    log10_sensitivity: f64,
+}
+
+/// Load the data set in `dir` (`stimuli.json`, `thresholds.csv`, `stimuli/*.png`).
+pub fn load(dir: &Path) -> Result<Vec<Stimulus>> {
+    let index = dir.join("stimuli.json");
+    let text = std::fs::read_to_string(&index).with_context(|| {
+        format!(
+            "cannot read {}: expected the ModelFest folder (stimuli.json, thresholds.csv, stimuli/)",
+            index.display()
+        )
+    })?;
+    let entries: Vec<Entry> = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{}: expected a list of {{number, name, file}}",
+            index.display()
+        )
+    })?;
+    let thresholds = read_thresholds(&dir.join("thresholds.csv"))?;
+    entries
+        .into_iter()
+        .map(|e| {
+            let Some(list) = thresholds.get(&e.number) else {
+                bail!(
+                    "{}: stimulus {} has no thresholds",
+                    dir.join("thresholds.csv").display(),
+                    e.number
+                );
+            };
+            let path = dir.join(&e.file);
+            let (width, height, contrast) = read_contrast(&path)?;
+            Ok(Stimulus {
+                number: e.number,
+                family: e
+                    .name
+                    .trim_end_matches(|c: char| c.is_ascii_digit())
+                    .to_string(),
+                name: e.name,
+                width,
+                height,
+                contrast,
+                measured: list.iter().sum::<f64>() / list.len() as f64,
+                observations: list.len(),
+            })
+        })
+        .collect()
+}
+
+/// Every threshold of each stimulus.
+fn read_thresholds(path: &Path) -> Result<BTreeMap<u32, Vec<f64>>> {
+    let mut reader =
+        csv::Reader::from_path(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut out: BTreeMap<u32, Vec<f64>> = BTreeMap::new();
+    for (i, row) in reader.deserialize::<Row>().enumerate() {
+        let row = row.with_context(|| {
+            format!(
+                "{} line {}: expected stimulus, name, observer, repeat, log10_sensitivity",
+                path.display(),
+                i + 2
+            )
+        })?;
+        out.entry(row.stimulus)
+            .or_default()
+            .push(row.log10_sensitivity);
+    }
+    Ok(out)
+}
+
+/// A 16-bit grey PNG as contrast c = 2 v / 65535 - 1, scaled to peak |c| = 1.
+fn read_contrast(path: &Path) -> Result<(usize, usize, Vec<f32>)> {
+    let img = image::open(path)
+        .with_context(|| format!("cannot read the stimulus image {}", path.display()))?
+        .into_luma16();
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let c: Vec<f64> = img
+        .pixels()
+        .map(|p| 2.0 * p.0[0] as f64 / 65535.0 - 1.0)
+        .collect();
+    let peak = c.iter().fold(0f64, |m, v| m.max(v.abs()));
+    if peak == 0.0 {
+        bail!(
+            "{}: the stimulus is blank (every pixel at the background)",
+            path.display()
+        );
+    }
+    Ok((w, h, c.iter().map(|v| (v / peak) as f32).collect()))
+}
+
+/// The time course g at frame `n` of the video: a Gaussian of sd [`TIME_SD`] centred in the
+/// video, zero beyond [`DURATION`] / 2 of the centre.
+pub fn time_course(n: usize) -> f64 {
+    let t = (n as f64 - frames() as f64 / 2.0) / FPS;
+    if t.abs() > DURATION / 2.0 + 1e-9 {
+        return 0.0;
+    }
+    (-0.5 * (t / TIME_SD).powi(2)).exp()
+}
+
+/// Frames of the video the model sees.
+pub fn frames() -> usize {
+    (VIDEO_SECONDS * FPS).round() as usize
+}
+
+/// Q per unit peak contrast of a stimulus, for each exponent pair of `grid` (in the order of
+/// [`Grid::pairs`]): the model's pipeline on the video at [`PROBE_CONTRAST`], divided by it.
+pub fn response(s: &Stimulus, grid: &Grid) -> Result<Vec<f64>> {
+    let viewing = Viewing {
+        width: s.width,
+        height: s.height,
+        frames: frames(),
+        fps: FPS,
+        pixels_per_degree: PIXELS_PER_DEGREE,
+        mean_luminance: MEAN_LUMINANCE,
+    };
+    let background = vec![MEAN_LUMINANCE as f32; s.contrast.len()];
+    let mut out = Vec::with_capacity(grid.channels.len() * grid.space.len());
+    for &channels in &grid.channels {
+        let mut filters = Filters::new(viewing, channels)?;
+        let per_frame = frame_differences(&mut filters, &grid.space, |n| {
+            let a = (MEAN_LUMINANCE * PROBE_CONTRAST * time_course(n)) as f32;
+            let test = s
+                .contrast
+                .iter()
+                .map(|&c| MEAN_LUMINANCE as f32 + a * c)
+                .collect();
+            Ok((test, background.clone()))
+        })?;
+        for (i, &beta) in grid.space.iter().enumerate() {
+            let q: Vec<f64> = per_frame.iter().map(|f| f[i]).collect();
+            out.push(super::pooling::video_q(&q, beta) / PROBE_CONTRAST);
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_time_course_is_a_cut_gaussian_centred_in_the_video() {
+        assert_eq!(frames(), 30);
+        assert_eq!(time_course(15), 1.0);
+        // 0.25 s from the centre = 2 sd: exp(-2); one frame further, nothing.
+        assert!(
+            (time_course(15 + 7) - (-0.5f64 * (7.0 / 30.0 / 0.125f64).powi(2)).exp()).abs() < 1e-12
+        );
+        assert!((time_course(30 / 2 - 7) - time_course(15 + 7)).abs() < 1e-12);
+        assert_eq!(time_course(0), 0.0);
+        assert_eq!(time_course(23), 0.0);
+    }
+}

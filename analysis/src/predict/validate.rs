@@ -1,0 +1,344 @@
+//! The model against human thresholds: ModelFest's 43 stimuli ([`super::modelfest`]) through
+//! the model's pipeline, its free parameters fitted by least squares on the log thresholds,
+//! and the error reported overall, per stimulus, per family and leave-one-out.
+//!
+//! Free parameters: the sensitivity constant k (d' = k Q) and the two Minkowski pooling
+//! exponents, beta_c over bands and channels and beta over space and time
+//! ([`super::pooling`]). Everything else is fixed as published (stelaCSF, the bands, the
+//! channels) or as chosen in docs/predict.md. For given exponents the predicted log
+//! sensitivity is log10 S_i = log10 k + log10(Q1_i / d'_84) (Q1 the response per unit peak
+//! contrast, d'_84 the 2IFC 84% point), so the least-squares log10 k is the mean residual in
+//! closed form; the exponents are the grid point ([`grid`]) with the least squared error.
+//! Leave-one-out refits all three without each stimulus and predicts that one.
+
+use super::decision::two_ifc_d_prime_for;
+use super::modelfest::{CRITERION, Stimulus, response};
+use super::pooling::{Exponents, Grid};
+use anyhow::{Result, bail};
+use rayon::prelude::*;
+use renderer::progress::Progress;
+use std::fmt::Write as _;
+
+/// The exponents the fit searches: beta_c in {1, 2, 3, 4} (integers cost multiplications, not
+/// powers, at every pixel of every band), beta in 1.0, 1.2, ..., 6.0.
+pub fn grid() -> Grid {
+    Grid {
+        channels: vec![1.0, 2.0, 3.0, 4.0],
+        space: (5..=30).map(|i| i as f64 * 0.2).collect(),
+    }
+}
+
+/// The model's response per unit contrast of every stimulus at every exponent of a grid.
+#[derive(Clone, Debug)]
+pub struct Responses {
+    pub pairs: Vec<Exponents>,
+    /// `q1[stimulus][pair]`.
+    pub q1: Vec<Vec<f64>>,
+}
+
+/// Run the pipeline on every stimulus (in parallel; `progress` counts stimuli).
+pub fn responses(stimuli: &[Stimulus], grid: &Grid, progress: &dyn Progress) -> Result<Responses> {
+    progress.start(stimuli.len() as u64);
+    progress.message("ModelFest stimuli");
+    let q1 = stimuli
+        .par_iter()
+        .map(|s| {
+            let r = response(s, grid);
+            progress.advance(1);
+            r
+        })
+        .collect::<Result<Vec<_>>>()?;
+    progress.finish();
+    Ok(Responses {
+        pairs: grid.pairs(),
+        q1,
+    })
+}
+
+/// Fitted parameters and the fit's error on the stimuli it was fitted to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fit {
+    pub exponents: Exponents,
+    pub log10_k: f64,
+    /// Root mean square of the log10 residuals.
+    pub rms_log10: f64,
+}
+
+impl Fit {
+    pub fn k(&self) -> f64 {
+        10f64.powf(self.log10_k)
+    }
+
+    /// Predicted log10 sensitivity of a stimulus of response `q1` at this fit's exponents.
+    pub fn predict(&self, q1: f64) -> f64 {
+        self.log10_k + (q1 / d_prime_84()).log10()
+    }
+}
+
+/// d' of the 2IFC 84% point.
+pub fn d_prime_84() -> f64 {
+    two_ifc_d_prime_for(CRITERION).expect("0.84 is inside (0.5, 1)")
+}
+
+/// Least-squares fit on the stimuli `use_` (indices into `measured` and `r.q1`).
+pub fn fit(measured: &[f64], r: &Responses, use_: &[usize]) -> Result<Fit> {
+    if use_.is_empty() {
+        bail!("no stimuli to fit");
+    }
+    let mut best: Option<Fit> = None;
+    for (j, &exponents) in r.pairs.iter().enumerate() {
+        let base = |i: usize| (r.q1[i][j] / d_prime_84()).log10();
+        let n = use_.len() as f64;
+        let log10_k = use_.iter().map(|&i| measured[i] - base(i)).sum::<f64>() / n;
+        let sse: f64 = use_
+            .iter()
+            .map(|&i| (measured[i] - base(i) - log10_k).powi(2))
+            .sum();
+        let f = Fit {
+            exponents,
+            log10_k,
+            rms_log10: (sse / n).sqrt(),
+        };
+        if f.rms_log10.is_finite() && best.is_none_or(|b| f.rms_log10 < b.rms_log10) {
+            best = Some(f);
+        }
+    }
+    best.ok_or_else(|| anyhow::anyhow!("every response is zero or not finite"))
+}
+
+/// Predicted log10 sensitivity of stimulus `i` under fit `f`.
+pub fn predicted(f: &Fit, r: &Responses, i: usize) -> f64 {
+    let j = r
+        .pairs
+        .iter()
+        .position(|&e| e == f.exponents)
+        .expect("a fit's exponents are a pair of the grid's");
+    f.predict(r.q1[i][j])
+}
+
+/// One stimulus in the report.
+#[derive(Clone, Debug)]
+pub struct Line {
+    pub number: u32,
+    pub name: String,
+    pub family: String,
+    pub measured: f64,
+    pub predicted: f64,
+    /// Predicted by the fit without this stimulus.
+    pub left_out: f64,
+}
+
+/// The validation: the fit on all stimuli and every stimulus's prediction.
+#[derive(Clone, Debug)]
+pub struct Validation {
+    pub fit: Fit,
+    pub lines: Vec<Line>,
+}
+
+/// dB of a log10 error: 20 log10.
+pub fn db(log10_error: f64) -> f64 {
+    20.0 * log10_error
+}
+
+fn rms(errors: impl Iterator<Item = f64>) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for e in errors {
+        s += e * e;
+        n += 1;
+    }
+    (s / n.max(1) as f64).sqrt()
+}
+
+impl Validation {
+    /// RMS error in dB over all stimuli.
+    pub fn rms_db(&self) -> f64 {
+        db(rms(self.lines.iter().map(|l| l.predicted - l.measured)))
+    }
+
+    /// Leave-one-out RMS error in dB.
+    pub fn loo_rms_db(&self) -> f64 {
+        db(rms(self.lines.iter().map(|l| l.left_out - l.measured)))
+    }
+}
+
+/// Fit on all stimuli and leave each out in turn.
+pub fn validate(stimuli: &[Stimulus], r: &Responses) -> Result<Validation> {
+    let measured: Vec<f64> = stimuli.iter().map(|s| s.measured).collect();
+    let all: Vec<usize> = (0..stimuli.len()).collect();
+    let f = fit(&measured, r, &all)?;
+    let lines = stimuli
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let rest: Vec<usize> = all.iter().copied().filter(|&j| j != i).collect();
+            let left_out = if rest.is_empty() {
+                f64::NAN
+            } else {
+                predicted(&fit(&measured, r, &rest)?, r, i)
+            };
+            Ok(Line {
+                number: s.number,
+                name: s.name.clone(),
+                family: s.family.clone(),
+                measured: s.measured,
+                predicted: predicted(&f, r, i),
+                left_out,
+            })
+        })
+        .collect::<Result<_>>()?;
+    Ok(Validation { fit: f, lines })
+}
+
+/// Per family (in order of first appearance): stimuli, mean error and RMS error, dB.
+pub fn families(v: &Validation) -> Vec<(String, usize, f64, f64)> {
+    let mut order: Vec<&str> = Vec::new();
+    for l in &v.lines {
+        if !order.contains(&l.family.as_str()) {
+            order.push(&l.family);
+        }
+    }
+    order
+        .into_iter()
+        .map(|fam| {
+            let errs: Vec<f64> = v
+                .lines
+                .iter()
+                .filter(|l| l.family == fam)
+                .map(|l| l.predicted - l.measured)
+                .collect();
+            let mean = errs.iter().sum::<f64>() / errs.len() as f64;
+            (
+                fam.to_string(),
+                errs.len(),
+                db(mean),
+                db(rms(errs.into_iter())),
+            )
+        })
+        .collect()
+}
+
+/// The report as Markdown; its last line is `RMS error: X dB over N stimuli`.
+pub fn markdown(v: &Validation) -> String {
+    let mut s = String::new();
+    let f = &v.fit;
+    let _ = writeln!(
+        s,
+        "# ModelFest validation\n\nFitted by least squares on log10 thresholds: k = {:.4} \
+         (log10 k = {:.4}), pooling exponents beta_c = {:.0} (bands and channels), beta = {:.1} \
+         (space and time). Decision: 2IFC, 84% correct at d' = {:.4}.\n",
+        f.k(),
+        f.log10_k,
+        f.exponents.channels,
+        f.exponents.space,
+        d_prime_84()
+    );
+    s.push_str(
+        "| # | stimulus | measured log10 S | predicted | error dB | left out: predicted | error dB |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for l in &v.lines {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.3} | {:.3} | {:+.2} | {:.3} | {:+.2} |",
+            l.number,
+            l.name,
+            l.measured,
+            l.predicted,
+            db(l.predicted - l.measured),
+            l.left_out,
+            db(l.left_out - l.measured)
+        );
+    }
+    s.push_str("\n| family | stimuli | mean error dB | RMS error dB |\n|---|---|---|---|\n");
+    for (fam, n, mean, r) in families(v) {
+        let _ = writeln!(s, "| {fam} | {n} | {mean:+.2} | {r:.2} |");
+    }
+    let _ = writeln!(
+        s,
+        "\nLeave-one-out RMS error: {:.2} dB over {} stimuli",
+        v.loo_rms_db(),
+        v.lines.len()
+    );
+    let _ = write!(
+        s,
+        "RMS error: {:.2} dB over {} stimuli",
+        v.rms_db(),
+        v.lines.len()
+    );
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Responses following q1 = 50 a_i^(1/beta) b_i^(1/beta_c) exactly: the fit must find
+    /// the true exponents and k.
+    fn synthetic(truth: Exponents, log10_k: f64) -> (Vec<f64>, Responses) {
+        let ab = [
+            (0.5, 1.0),
+            (2.0, 3.0),
+            (8.0, 1.0),
+            (30.0, 0.2),
+            (100.0, 7.0),
+            (3.0, 2.0),
+        ];
+        let pairs = grid().pairs();
+        let q = |(a, b): (f64, f64), e: &Exponents| {
+            50.0 * f64::powf(a, 1.0 / e.space) * f64::powf(b, 1.0 / e.channels)
+        };
+        let q1 = ab
+            .iter()
+            .map(|&x| pairs.iter().map(|e| q(x, e)).collect())
+            .collect();
+        let measured = ab
+            .iter()
+            .map(|&x| log10_k + (q(x, &truth) / d_prime_84()).log10())
+            .collect();
+        (measured, Responses { pairs, q1 })
+    }
+
+    const TRUTH: Exponents = Exponents {
+        channels: 3.0,
+        space: 2.6,
+    };
+
+    #[test]
+    fn the_fit_recovers_known_parameters() {
+        let (measured, r) = synthetic(TRUTH, -0.3);
+        let all: Vec<usize> = (0..measured.len()).collect();
+        let f = fit(&measured, &r, &all).unwrap();
+        assert_eq!(f.exponents.channels, 3.0, "{f:?}");
+        assert!((f.exponents.space - 2.6).abs() < 1e-9, "{f:?}");
+        assert!((f.log10_k + 0.3).abs() < 1e-9, "{f:?}");
+        assert!(f.rms_log10 < 1e-9);
+    }
+
+    #[test]
+    fn leave_one_out_predicts_an_exact_model_exactly_and_reports_in_db() {
+        let (measured, r) = synthetic(TRUTH, 0.2);
+        let stimuli: Vec<Stimulus> = measured
+            .iter()
+            .enumerate()
+            .map(|(i, &m)| Stimulus {
+                number: i as u32 + 1,
+                name: format!("S{}", i + 1),
+                family: "S".into(),
+                width: 1,
+                height: 1,
+                contrast: vec![1.0],
+                measured: m,
+                observations: 1,
+            })
+            .collect();
+        let v = validate(&stimuli, &r).unwrap();
+        assert!(v.rms_db() < 1e-6 && v.loo_rms_db() < 1e-6);
+        assert!(markdown(&v).ends_with("RMS error: 0.00 dB over 6 stimuli"));
+        // A stimulus measured 0.1 log units (2 dB) too sensitive shows in its own line.
+        let mut moved = stimuli.clone();
+        moved[2].measured += 0.1;
+        let v = validate(&moved, &r).unwrap();
+        assert!((v.lines[2].left_out - v.lines[2].measured + 0.1).abs() < 0.02);
+        assert!((db(0.1) - 2.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,101 @@
+//! The observer against human data: ModelFest (analysis/tests/data/modelfest) through the
+//! model's pipeline with the committed parameters (pooling::FITTED, decision::DEFAULT_K, the
+//! fit of `blurlab predict validate modelfest` on all 43 stimuli). A subset keeps CI quick;
+//! the full validation's figures are in docs/predict.md.
+
+use analysis::predict::decision::DEFAULT_K;
+use analysis::predict::modelfest::{Stimulus, load, response};
+use analysis::predict::pooling::{FITTED, Grid};
+use analysis::predict::validate::{Fit, d_prime_84, db};
+use std::path::PathBuf;
+
+fn data() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("analysis/tests/data/modelfest")
+}
+
+fn committed() -> Fit {
+    Fit {
+        exponents: FITTED,
+        log10_k: DEFAULT_K.log10(),
+        rms_log10: f64::NAN,
+    }
+}
+
+/// Predicted minus measured log10 sensitivity of each stimulus, at the committed parameters.
+fn errors(stimuli: &[&Stimulus]) -> Vec<f64> {
+    stimuli
+        .iter()
+        .map(|s| committed().predict(response(s, &Grid::one(FITTED)).unwrap()[0]) - s.measured)
+        .collect()
+}
+
+#[test]
+fn the_data_set_loads_whole() {
+    let all = load(&data()).unwrap();
+    assert_eq!(all.len(), 43);
+    assert!(
+        all.iter().all(|s| s.observations == 64),
+        "16 observers x 4 repeats each"
+    );
+    assert!(all.iter().all(|s| (s.width, s.height) == (256, 256)));
+    // The README's reading of the units: 1.82 for the 1.12 cpd Gabor, 0.57 at 30 cpd.
+    assert!((all[0].measured - 1.821).abs() < 1e-3 && (all[9].measured - 0.5675).abs() < 1e-3);
+    let err = load(&data().join("stimuli")).unwrap_err();
+    assert!(format!("{err:#}").contains("stimuli.json"), "{err:#}");
+}
+
+/// One stimulus from each of eight families (low / peak / high frequency Gabors, an elongated
+/// Gabor, a subthreshold-summation compound, the smallest and largest Gaussian blob, the
+/// noise): their RMS error at the committed parameters, measured when they were committed, may
+/// not grow.
+#[test]
+fn the_validation_error_does_not_grow() {
+    let all = load(&data()).unwrap();
+    let subset: Vec<&Stimulus> = [1, 6, 10, 15, 22, 26, 29, 35]
+        .iter()
+        .map(|n| all.iter().find(|s| s.number == *n).unwrap())
+        .collect();
+    let e = errors(&subset);
+    let rms_db = db((e.iter().map(|v| v * v).sum::<f64>() / e.len() as f64).sqrt());
+    eprintln!(
+        "subset errors (dB): {:?}; RMS {rms_db:.3} dB",
+        e.iter().map(|v| db(*v)).collect::<Vec<_>>()
+    );
+    assert!(
+        rms_db <= SUBSET_RMS_DB + 0.05,
+        "{rms_db} dB > {SUBSET_RMS_DB}"
+    );
+    assert!(d_prime_84() > 1.406 && d_prime_84() < 1.407);
+}
+
+/// The subset's RMS error (dB) at the committed parameters, as measured by the test above.
+const SUBSET_RMS_DB: f64 = 1.61;
+
+/// A noise-free border around a real stimulus (the field 1.5 times as wide, at the background
+/// luminance) never lowers its predicted visibility: a detector's pooling, not a mean (which
+/// gave 1 / 1.5^2 of it).
+#[test]
+fn a_noise_free_border_never_lowers_a_stimulus_visibility() {
+    let all = load(&data()).unwrap();
+    for n in [35] {
+        let s = all.iter().find(|s| s.number == n).unwrap();
+        let mut big = s.clone();
+        let side = 3 * s.width / 2;
+        big.width = side;
+        big.height = side;
+        big.contrast = vec![0.0; side * side];
+        let off = s.width / 4;
+        for y in 0..s.height {
+            for x in 0..s.width {
+                big.contrast[(y + off) * side + x + off] = s.contrast[y * s.width + x];
+            }
+        }
+        let (q, q_big) = (
+            response(s, &Grid::one(FITTED)).unwrap()[0],
+            response(&big, &Grid::one(FITTED)).unwrap()[0],
+        );
+        // The field's filters are periodic: the noise, which fills its field, wraps around in
+        // the small field and not in the big one, which moves Q by about 2e-4 either way.
+        assert!(q_big >= q * (1.0 - 1e-3), "{}: {q_big} < {q}", s.name);
+    }
+}
