@@ -8,6 +8,7 @@ mod continued_fraction;
 pub mod data;
 pub mod figures;
 pub mod jnd;
+pub mod multilevel;
 pub mod named;
 pub mod optimizer;
 pub mod options;

@@ -95,6 +95,14 @@ impl Model {
         (ln_p, ln_q)
     }
 
+    /// Binomial log-likelihood of `k` correct of `n` at x = ln spp (without the binomial
+    /// coefficient), finite for every parameter value that is not against the data.
+    pub(crate) fn log_likelihood_at(&self, x: f64, k: f64, n: f64) -> f64 {
+        let v = self.sigmoid.eval(self.beta * (self.alpha - x));
+        let (lp, lq) = self.ln_p_pair_of(&v);
+        term(k, n, lp, lq)
+    }
+
     /// Proportion correct at x = ln spp.
     pub fn p(&self, x: f64) -> f64 {
         let g = self.guess;

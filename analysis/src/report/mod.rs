@@ -6,12 +6,16 @@ use crate::bootstrap::{BootstrapResult, BootstrapSettings, bootstrap};
 use crate::comparisons::{Comparison, ComparisonSettings, compare};
 use crate::data::{Dataset, Exclusion, Group, GroupKey, Grouping, Source};
 use crate::jnd::{Threshold, crossing, empirical_threshold, model_threshold};
+use crate::multilevel::compare::compare_models;
+use crate::multilevel::{Context, MultilevelSettings, group_models};
 use crate::psychometric::{Fit, FitSettings, fit};
 use serde::Serialize;
 
 mod markdown;
+mod multilevel;
 mod rows;
 mod thesis;
+pub use multilevel::MultilevelReport;
 pub use rows::{FitRow, JndRow, TTestRow};
 pub use thesis::{ThesisRow, display_name, format_p, format_t};
 
@@ -29,6 +33,8 @@ pub struct Settings {
     pub poor_fit_p: f64,
     /// A report laid out like a publication's (`--preset`).
     pub preset: Option<Preset>,
+    /// The multilevel model across subjects (`--model multilevel`), if asked for.
+    pub multilevel: Option<MultilevelSettings>,
 }
 
 /// Analyses laid out as a publication did them.
@@ -112,6 +118,8 @@ pub struct Report {
     pub excluded: Vec<Exclusion>,
     pub groups: Vec<GroupResult>,
     pub comparisons: Vec<Comparison>,
+    /// The multilevel model's groups and comparisons (`--model multilevel`).
+    pub multilevel: Option<MultilevelReport>,
 }
 
 impl Report {
@@ -138,6 +146,17 @@ pub fn analyze(ds: &Dataset, s: &Settings) -> Report {
         excluded: ds.excluded.clone(),
         groups,
         comparisons: compare(ds, &s.comparisons),
+        multilevel: s.multilevel.as_ref().map(|m| {
+            let cx = Context {
+                fit: &s.fit,
+                target: s.target,
+                settings: m,
+            };
+            MultilevelReport {
+                groups: group_models(ds, &cx),
+                comparisons: compare_models(ds, &s.comparisons.order, &cx),
+            }
+        }),
     }
 }
 
