@@ -9,7 +9,7 @@
 //! does not assume it: resampling whole subjects keeps each subject's two curves together.
 
 use super::subjects::{SubjectBootstrap, replicates, summarize};
-use super::{Context, estimate, t_quantile};
+use super::{Context, Estimate, estimate, t_quantile};
 use crate::comparisons::PairOrder;
 use crate::data::{Curve, Dataset, Group, Grouping};
 use crate::sigmoid::erfc;
@@ -83,11 +83,7 @@ pub fn compare_pair(
     let (null, _) = estimate(&curves, true, cx, None)?;
     let n = counts.subjects.len();
     let df = (n - 1) as f64;
-    let d = full.params.thresholds[0] - full.params.thresholds[1];
-    let se = full.covariance.as_ref().and_then(|c| {
-        let v = c[0][0] + c[1][1] - 2.0 * c[0][1];
-        (v > 0.0).then(|| v.sqrt())
-    });
+    let (d, se) = difference(&full);
     let tq = t_quantile(1.0 - 0.5 * (1.0 - cx.settings.confidence), df);
     let lr = (2.0 * (full.log_likelihood - null.log_likelihood)).max(0.0);
     let key = name_id(&format!(
@@ -126,6 +122,17 @@ pub fn compare_pair(
             .zip(se)
             .map(|(m, s)| tost(d, s, df, m)),
     })
+}
+
+/// The first group's ln JND minus the second's in a two-group model, and its Wald standard
+/// error (`None` without a covariance).
+pub fn difference(e: &Estimate) -> (f64, Option<f64>) {
+    let d = e.params.thresholds[0] - e.params.thresholds[1];
+    let se = e.covariance.as_ref().and_then(|c| {
+        let v = c[0][0] + c[1][1] - 2.0 * c[0][1];
+        (v > 0.0).then(|| v.sqrt())
+    });
+    (d, se)
 }
 
 /// Two one-sided tests of |d| < margin at [`TOST_ALPHA`] each, from an estimate `d` with

@@ -13,6 +13,7 @@
 
 pub mod command;
 pub mod duration;
+pub mod equivalence;
 pub mod output;
 pub mod replicate;
 
