@@ -143,6 +143,9 @@ impl AnalyzeArgs {
 pub fn run(args: AnalyzeArgs) -> Result<()> {
     let args = args.options();
     let report = run_report(&args)?;
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
     let excluded = match report.excluded.len() {
         0 => String::new(),
         n => format!(", {n} excluded"),

@@ -2,6 +2,7 @@
 //! (thesis Chapter V).
 
 pub mod bootstrap;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod comparisons;
 mod continued_fraction;
@@ -22,5 +23,6 @@ pub mod sigmoid;
 pub mod simulate;
 pub mod student_t;
 pub mod summary;
+pub mod threshold;
 pub mod ttest;
 pub mod validate;

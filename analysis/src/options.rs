@@ -247,8 +247,22 @@ impl AnalyzeOptions {
     }
 }
 
+/// Here rather than beside [`Settings`], so that the report does not import the options (which
+/// import the report's writer): no `options -> output -> figures -> report -> options` cycle.
+impl Default for Settings {
+    /// The `analyze` command's defaults (logistic, lapse 0, target 0.75, 2000 resamples,
+    /// paired tests at 27, 64, 125 and 216 spp for scenes, alpha 0.05):
+    /// [`AnalyzeOptions`]'s, written out there.
+    fn default() -> Self {
+        AnalyzeOptions::new(Vec::new(), std::path::PathBuf::new())
+            .settings()
+            .expect("the defaults are valid")
+    }
+}
+
 /// Read the logs, analyze, write the report files and figures; returns the report (e.g. for
-/// [`Report::summary`]). Tolerated problems (torn last lines) are printed as warnings.
+/// [`Report::summary`]). Tolerated problems (torn last lines) are in `Report::warnings` (and
+/// `report.md`); printing them is the caller's (`cli::run` does).
 pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
     if args.guess.is_some() || args.design.is_none() {
         // Refuse bad options before reading any data (with a design the guess rate, and so
@@ -262,9 +276,6 @@ pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
     }
     ds.exclude(&args.exclusions())?;
     let settings = args.settings_for(&ds, design.as_ref())?;
-    for w in &ds.warnings {
-        eprintln!("warning: {w}");
-    }
     let report = analyze(&ds, &settings);
     crate::output::write(&report, &args.out)?;
     Ok(report)

@@ -138,14 +138,25 @@ fn the_population_interval_covers_the_truth_in_simulated_studies() {
             .find(|g| g.key.label == "plane/hammersley/truncated_box")
             .unwrap();
         let m = analysis::multilevel::group_model(&ds, g, &cx).unwrap();
-        let lo = m.ci_lower.as_ref().and_then(|b| b.spp()).map_or(0.0, f64::ln);
-        let hi = m.ci_upper.as_ref().and_then(|b| b.spp()).map_or(f64::INFINITY, f64::ln);
+        let lo = m
+            .ci_lower
+            .as_ref()
+            .and_then(|b| b.spp())
+            .map_or(0.0, f64::ln);
+        let hi = m
+            .ci_upper
+            .as_ref()
+            .and_then(|b| b.spp())
+            .map_or(f64::INFINITY, f64::ln);
         covered += (lo <= 40f64.ln() && 40f64.ln() <= hi) as usize;
         errors.push(m.ln_jnd - 40f64.ln());
     }
     let nf = n as f64;
     let rate = covered as f64 / nf;
-    assert!(rate >= 0.95 - 3.0 * (0.95 * 0.05 / nf).sqrt(), "coverage {rate}");
+    assert!(
+        rate >= 0.95 - 3.0 * (0.95 * 0.05 / nf).sqrt(),
+        "coverage {rate}"
+    );
     let mean = errors.iter().sum::<f64>() / nf;
     let sd = (errors.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (nf - 1.0)).sqrt();
     assert!(mean.abs() < 3.0 * sd / nf.sqrt(), "bias {mean} (sd {sd})");

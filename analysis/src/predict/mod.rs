@@ -20,6 +20,7 @@
 
 pub mod bands;
 pub mod calibrate;
+#[cfg(feature = "cli")]
 pub mod command;
 pub mod compare;
 pub mod csf;

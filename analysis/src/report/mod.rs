@@ -56,17 +56,6 @@ impl crate::named::Named for Preset {
     }
 }
 
-impl Default for Settings {
-    /// The `analyze` command's defaults (logistic, lapse 0, target 0.75, 2000 resamples,
-    /// paired tests at 27, 64, 125 and 216 spp for scenes, alpha 0.05):
-    /// [`crate::options::AnalyzeOptions`]'s, written out there.
-    fn default() -> Self {
-        crate::options::AnalyzeOptions::new(Vec::new(), std::path::PathBuf::new())
-            .settings()
-            .expect("the defaults are valid")
-    }
-}
-
 /// Mean and standard error over subjects at one level.
 #[derive(Clone, Debug, Serialize)]
 pub struct LevelSummary {
