@@ -6,7 +6,7 @@
 
 use crate::comparisons::Unit;
 use crate::named::Named;
-use crate::options::{AnalyzeOptions, run_report};
+use crate::options::{AnalyzeOptions, ModelKind, run_report};
 use crate::psychometric::LapseMode;
 use crate::report::Preset;
 use crate::sigmoid::Sigmoid;
@@ -88,6 +88,21 @@ pub struct AnalyzeArgs {
     /// the thesis's pair order, and writes its Tables 1 and 2 (`thesis_tables.csv`).
     #[arg(long, value_parser = named::<Preset>())]
     pub preset: Option<Preset>,
+    /// The model across subjects: `pooled` (the pooled fits only) or `multilevel` (also a
+    /// multilevel model: subjects' thresholds as normal random effects in ln spp, the
+    /// population JND with intervals that include the between-subject variance, model-based
+    /// comparisons; see docs/analysis.md).
+    #[arg(long, value_parser = named::<ModelKind>(), default_value = "pooled")]
+    pub model: ModelKind,
+    /// Equivalence margin in ln JND (0.2: a ratio within 0.82-1.22): two one-sided tests for
+    /// every point-set and time-filter pair from the multilevel model (implies --model
+    /// multilevel).
+    #[arg(long)]
+    pub equivalence: Option<f64>,
+    /// Subject-bootstrap resamples of the multilevel model (whole subjects resampled and the
+    /// model refitted; 0: none; at least 200).
+    #[arg(long, default_value_t = 200)]
+    pub subject_bootstrap: usize,
 }
 
 /// A clap value parser offering `T`'s names.
@@ -117,6 +132,9 @@ impl AnalyzeArgs {
             unit: self.unit,
             exclude: self.exclude.clone(),
             preset: self.preset,
+            model: self.model,
+            equivalence: self.equivalence,
+            subject_bootstrap: self.subject_bootstrap,
         }
     }
 }
@@ -125,6 +143,9 @@ impl AnalyzeArgs {
 pub fn run(args: AnalyzeArgs) -> Result<()> {
     let args = args.options();
     let report = run_report(&args)?;
+    for w in &report.warnings {
+        eprintln!("warning: {w}");
+    }
     let excluded = match report.excluded.len() {
         0 => String::new(),
         n => format!(", {n} excluded"),

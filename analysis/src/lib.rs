@@ -3,12 +3,14 @@
 
 pub mod adaptive;
 pub mod bootstrap;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod comparisons;
 mod continued_fraction;
 pub mod data;
 pub mod figures;
 pub mod jnd;
+pub mod multilevel;
 pub mod named;
 pub mod optimizer;
 pub mod options;
@@ -22,5 +24,6 @@ pub mod sigmoid;
 pub mod simulate;
 pub mod student_t;
 pub mod summary;
+pub mod threshold;
 pub mod ttest;
 pub mod validate;

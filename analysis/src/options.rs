@@ -6,12 +6,14 @@
 use crate::bootstrap::BootstrapSettings;
 use crate::comparisons::{ComparisonSettings, PairOrder, Unit};
 use crate::data::{Dataset, Source};
+use crate::multilevel::MultilevelSettings;
 use crate::psychometric::{FitSettings, GUESS, LapseMode};
 use crate::report::{Preset, Report, Settings, analyze};
 use crate::sigmoid::Sigmoid;
 use crate::ttest::TestKind;
 use anyhow::{Result, bail};
 use experiment::Design;
+use serde::Serialize;
 use std::path::PathBuf;
 
 /// An analysis of session logs or counts tables (`blurlab analyze`; the flags' help in
@@ -48,6 +50,34 @@ pub struct AnalyzeOptions {
     /// Subjects left out: `s03` or `s03=reason`.
     pub exclude: Vec<String>,
     pub preset: Option<Preset>,
+    /// The model across subjects: the pooled fits only, or also the multilevel model.
+    pub model: ModelKind,
+    /// Equivalence margin in ln JND for the TOST of point sets and time filters (implies the
+    /// multilevel model).
+    pub equivalence: Option<f64>,
+    /// Subject-bootstrap resamples of the multilevel model (0: none).
+    pub subject_bootstrap: usize,
+}
+
+/// Which model across subjects `analyze` fits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModelKind {
+    /// The pooled fits with their parametric bootstrap (and per-subject fits).
+    #[default]
+    Pooled,
+    /// Also the multilevel model ([`crate::multilevel`]).
+    Multilevel,
+}
+
+impl crate::named::Named for ModelKind {
+    const ALL: &'static [Self] = &[ModelKind::Pooled, ModelKind::Multilevel];
+    fn name(self) -> &'static str {
+        match self {
+            ModelKind::Pooled => "pooled",
+            ModelKind::Multilevel => "multilevel",
+        }
+    }
 }
 
 impl AnalyzeOptions {
@@ -73,6 +103,9 @@ impl AnalyzeOptions {
             unit: Unit::Subject,
             exclude: Vec::new(),
             preset: None,
+            model: ModelKind::Pooled,
+            equivalence: None,
+            subject_bootstrap: 200,
         }
     }
 }
@@ -156,6 +189,7 @@ impl AnalyzeOptions {
         if levels.contains(&0) || scene_levels.contains(&0) {
             bail!("--levels / --scene-levels: spp must be >= 1");
         }
+        let multilevel = self.multilevel_settings()?;
         Ok(Settings {
             fit: FitSettings {
                 sigmoid: self.sigmoid,
@@ -183,12 +217,52 @@ impl AnalyzeOptions {
             },
             poor_fit_p: 0.05,
             preset: self.preset,
+            multilevel,
         })
+    }
+
+    /// The multilevel model's settings, if `--model multilevel` or `--equivalence` asks for it.
+    fn multilevel_settings(&self) -> Result<Option<MultilevelSettings>> {
+        if let Some(m) = self.equivalence
+            && !(m > 0.0 && m < 5.0)
+        {
+            bail!(
+                "--equivalence is {m}; expected a margin in ln JND in (0, 5), e.g. 0.2 for a \
+                 ratio within 0.82-1.22"
+            );
+        }
+        if self.subject_bootstrap != 0 && self.subject_bootstrap < 200 {
+            bail!(
+                "--subject-bootstrap is {}; expected 0 (none) or at least 200 resamples",
+                self.subject_bootstrap
+            );
+        }
+        let on = self.model == ModelKind::Multilevel || self.equivalence.is_some();
+        Ok(on.then(|| MultilevelSettings {
+            resamples: self.subject_bootstrap,
+            seed: self.seed,
+            equivalence: self.equivalence,
+            ..MultilevelSettings::default()
+        }))
+    }
+}
+
+/// Here rather than beside [`Settings`], so that the report does not import the options (which
+/// import the report's writer): no `options -> output -> figures -> report -> options` cycle.
+impl Default for Settings {
+    /// The `analyze` command's defaults (logistic, lapse 0, target 0.75, 2000 resamples,
+    /// paired tests at 27, 64, 125 and 216 spp for scenes, alpha 0.05):
+    /// [`AnalyzeOptions`]'s, written out there.
+    fn default() -> Self {
+        AnalyzeOptions::new(Vec::new(), std::path::PathBuf::new())
+            .settings()
+            .expect("the defaults are valid")
     }
 }
 
 /// Read the logs, analyze, write the report files and figures; returns the report (e.g. for
-/// [`Report::summary`]). Tolerated problems (torn last lines) are printed as warnings.
+/// [`Report::summary`]). Tolerated problems (torn last lines) are in `Report::warnings` (and
+/// `report.md`); printing them is the caller's (`cli::run` does).
 pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
     if args.guess.is_some() || args.design.is_none() {
         // Refuse bad options before reading any data (with a design the guess rate, and so
@@ -202,9 +276,6 @@ pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
     }
     ds.exclude(&args.exclusions())?;
     let settings = args.settings_for(&ds, design.as_ref())?;
-    for w in &ds.warnings {
-        eprintln!("warning: {w}");
-    }
     let report = analyze(&ds, &settings);
     crate::output::write(&report, &args.out)?;
     if let Some(d) = &design {

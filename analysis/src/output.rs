@@ -14,7 +14,7 @@ pub fn write(report: &Report, dir: &Path) -> Result<()> {
     write_csv(&dir.join("jnd.csv"), &report.jnd_rows())?;
     write_csv(&dir.join("fits.csv"), &report.fit_rows())?;
     write_csv(&dir.join("ttests.csv"), &report.ttest_rows())?;
-    let json = serde_json::json!({
+    let mut json = serde_json::json!({
         "format": REPORT_FORMAT,
         "design": report.design,
         "design_hash": report.design_hash,
@@ -29,6 +29,9 @@ pub fn write(report: &Report, dir: &Path) -> Result<()> {
         "fits": report.fit_rows(),
         "ttests": report.ttest_rows(),
     });
+    if let Some(m) = &report.multilevel {
+        json["multilevel"] = serde_json::to_value(m)?;
+    }
     renderer::atomic::write_atomic(
         &dir.join("report.json"),
         (serde_json::to_string_pretty(&json)? + "\n").as_bytes(),

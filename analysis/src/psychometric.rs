@@ -95,6 +95,14 @@ impl Model {
         (ln_p, ln_q)
     }
 
+    /// Binomial log-likelihood of `k` correct of `n` at x = ln spp (without the binomial
+    /// coefficient), finite for every parameter value that is not against the data.
+    pub(crate) fn log_likelihood_at(&self, x: f64, k: f64, n: f64) -> f64 {
+        let v = self.sigmoid.eval(self.beta * (self.alpha - x));
+        let (lp, lq) = self.ln_p_pair_of(&v);
+        term(k, n, lp, lq)
+    }
+
     /// Proportion correct at x = ln spp.
     pub fn p(&self, x: f64) -> f64 {
         let g = self.guess;
@@ -486,6 +494,7 @@ fn minimise(data: &Data, space: &Space, start: [f64; 3], step: f64) -> ([f64; 3]
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::named::Named;
 
     fn curve(levels: &[u32], correct: &[u32], n: u32) -> Curve {
         Curve::from_counts(levels.iter().zip(correct).map(|(&l, &k)| (l, k, n)))
@@ -520,7 +529,7 @@ mod tests {
     fn all_correct_is_a_step_above_the_range() {
         let c = curve(&THESIS, &[4; 8], 4);
         for lapse in [LapseMode::Fixed, LapseMode::Free] {
-            for sigmoid in [Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal] {
+            for &sigmoid in Sigmoid::ALL {
                 let f = fit(
                     &c,
                     &FitSettings {
@@ -585,7 +594,7 @@ mod tests {
             (343, 26, 48),
             (512, 23, 48),
         ]);
-        for sigmoid in [Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal] {
+        for &sigmoid in Sigmoid::ALL {
             let f = fit(
                 &c,
                 &FitSettings {
@@ -829,7 +838,7 @@ mod tests {
         #[test]
         fn fit_is_at_least_as_likely_as_any_grid_point(
             table in proptest::collection::vec((1u32..4096, 1u32..=200, 0.0f64..=1.0), 1..=8),
-            sig in 0usize..3,
+            sig in 0..Sigmoid::ALL.len(),
             free in proptest::bool::ANY,
             m in proptest::sample::select(vec![2u32, 3, 4, 10]),
         ) {
@@ -837,7 +846,7 @@ mod tests {
                 table.iter().map(|&(l, n, u)| (l, (u * n as f64).round() as u32, n)),
             );
             let settings = FitSettings {
-                sigmoid: [Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal][sig],
+                sigmoid: Sigmoid::ALL[sig],
                 lapse: if free { LapseMode::Free } else { LapseMode::Fixed },
                 guess: 1.0 / m as f64,
             };
@@ -871,12 +880,12 @@ mod tests {
         #[test]
         fn subject_sized_data_never_gives_nonsense(
             ks in proptest::collection::vec(0u32..=4, 1..=8),
-            sig in 0usize..3,
+            sig in 0..Sigmoid::ALL.len(),
             free in proptest::bool::ANY,
         ) {
             let c = curve(&THESIS[..ks.len()], &ks, 4);
             let settings = FitSettings {
-                sigmoid: [Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal][sig],
+                sigmoid: Sigmoid::ALL[sig],
                 lapse: if free { LapseMode::Free } else { LapseMode::Fixed },
                 guess: GUESS,
             };

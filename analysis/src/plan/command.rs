@@ -59,6 +59,11 @@ pub struct PlanArgs {
     /// Hide the progress bar.
     #[arg(long)]
     pub no_progress: bool,
+    /// Also plan the multilevel model's equivalence tests (TOST) of point sets and time
+    /// filters at this margin in ln JND (0.2: a ratio within 0.82-1.22): their power and the
+    /// subjects needed (`equivalence.json`, a section of plan.md).
+    #[arg(long)]
+    pub equivalence: Option<f64>,
 }
 
 /// What the command produced.
@@ -109,18 +114,39 @@ pub fn run(args: &PlanArgs) -> Result<Outcome> {
         .video_seconds
         .or_else(|| manifest_video_seconds(&design))
         .map(|v| session(&design, v, args.response_seconds, args.break_seconds));
-    let text = recommendation(
+    let mut text = recommendation(
         &plan,
         Criteria {
             probability: args.probability,
             min_difference: args.min_difference,
         },
     );
+    let equivalence = args
+        .equivalence
+        .map(|m| {
+            let rows = super::equivalence::run(
+                &design,
+                &observer,
+                &args.subjects,
+                args.replications,
+                m,
+                &bar,
+            )?;
+            text.push_str("\n\n");
+            text.push_str(&super::equivalence::markdown(&rows, m, args.probability));
+            anyhow::Ok(rows)
+        })
+        .transpose()?;
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("results").join(design.name()).join("plan"));
-    let files = write(&plan, duration.as_ref(), &text, &out)?;
+    let mut files = write(&plan, duration.as_ref(), &text, &out)?;
+    if let Some(rows) = equivalence {
+        let path = out.join("equivalence.json");
+        renderer::atomic::write_atomic(&path, serde_json::to_string_pretty(&rows)?.as_bytes())?;
+        files.push(path);
+    }
     Ok(Outcome {
         plan,
         duration,

@@ -22,6 +22,7 @@
 
 pub mod bands;
 pub mod calibrate;
+#[cfg(feature = "cli")]
 pub mod command;
 pub mod compare;
 pub mod csf;

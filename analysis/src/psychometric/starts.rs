@@ -13,7 +13,7 @@
 
 use super::{Data, LAPSE_MAX, Model, Space};
 use crate::data::Curve;
-use crate::jnd::{Threshold, empirical_threshold};
+use crate::threshold::{Threshold, empirical_threshold};
 
 /// Local maxima of the cold grid started from.
 const BASINS: usize = 4;

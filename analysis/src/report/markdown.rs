@@ -129,6 +129,9 @@ impl Report {
                 &[Grouping::Scene, Grouping::PointSet, Grouping::TimeFilter],
             );
         }
+        if let Some(m) = &s.multilevel {
+            self.multilevel_section(&mut md, m);
+        }
         let _ = writeln!(md, "## Figures\n");
         for f in figures {
             let _ = writeln!(md, "![{f}](figures/{f}.svg) ([PNG](figures/{f}.png))\n");

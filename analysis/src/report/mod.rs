@@ -6,12 +6,16 @@ use crate::bootstrap::{BootstrapResult, BootstrapSettings, bootstrap};
 use crate::comparisons::{Comparison, ComparisonSettings, compare};
 use crate::data::{Dataset, Exclusion, Group, GroupKey, Grouping, Source};
 use crate::jnd::{Threshold, crossing, empirical_threshold, model_threshold};
+use crate::multilevel::compare::compare_models;
+use crate::multilevel::{Context, MultilevelSettings, group_models};
 use crate::psychometric::{Fit, FitSettings, fit};
 use serde::Serialize;
 
 mod markdown;
+mod multilevel;
 mod rows;
 mod thesis;
+pub use multilevel::MultilevelReport;
 pub use rows::{FitRow, JndRow, TTestRow};
 pub use thesis::{ThesisRow, display_name, format_p, format_t};
 
@@ -29,6 +33,8 @@ pub struct Settings {
     pub poor_fit_p: f64,
     /// A report laid out like a publication's (`--preset`).
     pub preset: Option<Preset>,
+    /// The multilevel model across subjects (`--model multilevel`), if asked for.
+    pub multilevel: Option<MultilevelSettings>,
 }
 
 /// Analyses laid out as a publication did them.
@@ -47,17 +53,6 @@ impl crate::named::Named for Preset {
         match self {
             Preset::Thesis => "thesis",
         }
-    }
-}
-
-impl Default for Settings {
-    /// The `analyze` command's defaults (logistic, lapse 0, target 0.75, 2000 resamples,
-    /// paired tests at 27, 64, 125 and 216 spp for scenes, alpha 0.05):
-    /// [`crate::options::AnalyzeOptions`]'s, written out there.
-    fn default() -> Self {
-        crate::options::AnalyzeOptions::new(Vec::new(), std::path::PathBuf::new())
-            .settings()
-            .expect("the defaults are valid")
     }
 }
 
@@ -112,6 +107,8 @@ pub struct Report {
     pub excluded: Vec<Exclusion>,
     pub groups: Vec<GroupResult>,
     pub comparisons: Vec<Comparison>,
+    /// The multilevel model's groups and comparisons (`--model multilevel`).
+    pub multilevel: Option<MultilevelReport>,
 }
 
 impl Report {
@@ -138,6 +135,17 @@ pub fn analyze(ds: &Dataset, s: &Settings) -> Report {
         excluded: ds.excluded.clone(),
         groups,
         comparisons: compare(ds, &s.comparisons),
+        multilevel: s.multilevel.as_ref().map(|m| {
+            let cx = Context {
+                fit: &s.fit,
+                target: s.target,
+                settings: m,
+            };
+            MultilevelReport {
+                groups: group_models(ds, &cx),
+                comparisons: compare_models(ds, &s.comparisons.order, &cx),
+            }
+        }),
     }
 }
 

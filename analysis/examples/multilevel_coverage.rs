@@ -1,0 +1,182 @@
+//! Coverage and bias of the multilevel model's population-JND interval, against the pooled
+//! fit's parametric bootstrap, and the size and power of its TOST, by simulating the thesis
+//! design through the real session machine (`analysis::plan::replicate`, the same as `plan`).
+//!
+//! The observer is the thesis's (logistic, slope 1.5, plane 40 and spheres 100 spp) with
+//! Hammersley's thresholds a factor e^0.2 higher and the given subject spread (uniform in ln
+//! spp over a range this wide, the observer file's `subject_spread`). Per replication: the
+//! conditions plane/poisson (true JND 40) and spheres/stratified (100) are fitted by the
+//! multilevel model (Wald interval) and by the pooled fit with 39 bootstrap resamples (an
+//! interval of exactly 95% nominal coverage, docs/analysis.md); the point-set pairs
+//! hammersley-poisson (true difference 0.2 = the margin: the TOST's size) and
+//! poisson-stratified (no difference: its power) are compared in one model each.
+//!
+//! `cargo run -p analysis --example multilevel_coverage -- <replications> <spreads, e.g.
+//! 0.3,0.9> [subjects]`
+
+use analysis::bootstrap::Bound;
+use analysis::data::{Curve, Dataset, Grouping};
+use analysis::multilevel::compare::{difference, tost};
+use analysis::multilevel::{Context, MultilevelSettings, estimate, group_model};
+use analysis::plan::replicate::{ReplicationSettings, replicate};
+use analysis::report::Settings;
+use experiment::{Design, Observer};
+use rayon::prelude::*;
+use std::path::Path;
+
+const MARGIN: f64 = 0.2;
+
+/// What one replication found.
+#[derive(Default, Clone, Copy)]
+struct Outcome {
+    /// Per condition: (multilevel covers, pooled covers, ln estimate - ln truth).
+    cells: [(bool, bool, f64); 2],
+    /// TOST shown equivalent: at the margin, at no difference.
+    at_margin: bool,
+    at_zero: bool,
+}
+
+fn observer(spread: f64) -> Observer {
+    let h = MARGIN.exp();
+    let text = format!(
+        r#"{{"format": "blurlab-observer/1", "name": "coverage", "slope": 1.5, "lapse": 0.0,
+        "subject_spread": {spread}, "seed": 2013, "thresholds": [
+        {{"scene": "plane", "point_set": "hammersley", "spp": {}}},
+        {{"scene": "plane", "spp": 40}},
+        {{"scene": "spheres", "point_set": "hammersley", "spp": {}}},
+        {{"scene": "spheres", "spp": 100}}]}}"#,
+        40.0 * h,
+        100.0 * h
+    );
+    Observer::parse(Path::new("coverage.json"), &text).expect("a valid observer")
+}
+
+fn ln_interval(lo: &Option<Bound>, hi: &Option<Bound>) -> (f64, f64) {
+    let end = |b: &Option<Bound>, out: f64| match b {
+        Some(Bound::Value { spp }) => spp.ln(),
+        Some(Bound::BelowRange { .. }) => f64::NEG_INFINITY,
+        Some(Bound::AboveRange { .. }) => f64::INFINITY,
+        None => out,
+    };
+    (end(lo, f64::INFINITY), end(hi, f64::NEG_INFINITY))
+}
+
+fn one(design: &Design, obs: &Observer, subjects: usize, r: u64) -> Outcome {
+    let mut analysis = Settings::default();
+    analysis.bootstrap.resamples = 39;
+    let s = ReplicationSettings {
+        analysis,
+        groupings: vec![Grouping::Condition],
+    };
+    let (rep, ds) = replicate(design, obs, subjects, r, &s).expect("a replication");
+    let ml = MultilevelSettings {
+        resamples: 0,
+        ..MultilevelSettings::default()
+    };
+    let fit = s.analysis.fit;
+    let cx = Context {
+        fit: &fit,
+        target: 0.75,
+        settings: &ml,
+    };
+    let mut out = Outcome::default();
+    for (i, (label, truth)) in [
+        ("plane/poisson/truncated_box", 40f64),
+        ("spheres/stratified/truncated_box", 100.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let g = ds.groups.iter().find(|g| g.key.label == label).unwrap();
+        let m = group_model(&ds, g, &cx).expect("identified");
+        let (lo, hi) = ln_interval(&m.ci_lower, &m.ci_upper);
+        let (_, b) = rep.pooled.iter().find(|(k, _)| k.label == label).unwrap();
+        let (plo, phi) = ln_interval(&b.ci_lower, &b.ci_upper);
+        let t = truth.ln();
+        out.cells[i] = (lo <= t && t <= hi, plo <= t && t <= phi, m.ln_jnd - t);
+    }
+    let tost_of = |a: &str, b: &str| {
+        let curves: Vec<&[Curve]> = [a, b]
+            .iter()
+            .map(|l| group(&ds, l).per_subject.as_slice())
+            .collect();
+        let (e, c) = estimate(&curves, false, &cx, None).expect("identified");
+        let (d, se) = difference(&e);
+        tost(
+            d,
+            se.expect("a covariance"),
+            (c.subjects.len() - 1) as f64,
+            MARGIN,
+        )
+        .equivalent
+    };
+    out.at_margin = tost_of("hammersley", "poisson");
+    out.at_zero = tost_of("poisson", "stratified");
+    out
+}
+
+fn group<'a>(ds: &'a Dataset, label: &str) -> &'a analysis::data::Group {
+    ds.groups_of(Grouping::PointSet)
+        .find(|g| g.key.label == label)
+        .unwrap()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let reps: u64 = args.get(1).map_or(100, |a| a.parse().unwrap());
+    let spreads: Vec<f64> = args
+        .get(2)
+        .map_or("0.3,0.9", |a| a.as_str())
+        .split(',')
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let subjects: usize = args.get(3).map_or(12, |a| a.parse().unwrap());
+    let design = Design::load(Path::new("scenes/designs/thesis.json")).expect("the thesis design");
+    println!(
+        "| spread | replications | condition | multilevel coverage | pooled coverage | mean ln JND error | ratio | TOST at margin (size) | TOST at 0 (power) | CPU s |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for spread in spreads {
+        let obs = observer(spread);
+        let t0 = cpu_seconds();
+        let outs: Vec<Outcome> = (0..reps)
+            .into_par_iter()
+            .map(|r| one(&design, &obs, subjects, r))
+            .collect();
+        let cpu = cpu_seconds() - t0;
+        let n = outs.len() as f64;
+        let size = outs.iter().filter(|o| o.at_margin).count() as f64 / n;
+        let power = outs.iter().filter(|o| o.at_zero).count() as f64 / n;
+        for (i, label) in ["plane/poisson (40)", "spheres/stratified (100)"]
+            .iter()
+            .enumerate()
+        {
+            let ml = outs.iter().filter(|o| o.cells[i].0).count() as f64 / n;
+            let pooled = outs.iter().filter(|o| o.cells[i].1).count() as f64 / n;
+            let bias = outs.iter().map(|o| o.cells[i].2).sum::<f64>() / n;
+            println!(
+                "| {spread} | {reps} | {label} | {ml:.3} | {pooled:.3} | {bias:+.4} | {:.3} | {size:.3} | {power:.3} | {cpu:.0} |",
+                bias.exp()
+            );
+        }
+    }
+}
+
+/// CPU time of the process (all threads), seconds.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let fields: Vec<&str> = stat
+        .rsplit(')')
+        .next()
+        .unwrap_or("")
+        .split_whitespace()
+        .collect();
+    let ticks = |i: usize| {
+        fields
+            .get(i)
+            .and_then(|v| v.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    // utime and stime are fields 14 and 15 of /proc/pid/stat (11 and 12 after the name).
+    (ticks(11) + ticks(12)) / 100.0
+}

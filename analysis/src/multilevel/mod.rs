@@ -1,0 +1,420 @@
+//! Analysis across subjects: a multilevel (mixed-effects) psychometric model.
+//!
+//! The pooled fit treats every trial as if one observer gave it, and its parametric bootstrap
+//! resamples trials, so its interval ignores that people differ. Here each group's subjects get
+//! their own threshold, normal in ln spp around the population's ([`model`]): the population
+//! JND's interval then carries the between-subject variance, the between-subject SD is an
+//! estimate of its own, and each subject's JND is shrunk towards the population's as far as
+//! the subject's own data are weak (with 4 trials per level, far). Fitted by maximum likelihood
+//! with adaptive Gauss-Hermite quadrature over each subject's offset (as lme4's `glmer` with
+//! `nAGQ` > 1, the guess rate and lapse built into the link). Two intervals for the population
+//! JND: Wald from the observed information (Student t with subjects - 1 df), and a subject
+//! bootstrap (resampling whole subjects and refitting), the simpler one.
+//!
+//! [`compare`] compares groups (scenes, point sets) within one model: differences in ln JND
+//! with Wald and likelihood-ratio tests, and two one-sided tests of equivalence.
+
+pub mod compare;
+mod fit;
+pub mod model;
+pub mod quadrature;
+mod subjects;
+
+use crate::bootstrap::Bound;
+use crate::data::{Curve, Dataset, Group, GroupKey};
+use crate::jnd::Threshold;
+use crate::psychometric::{FitSettings, fit as fit_pooled};
+pub use fit::{Estimate, spd_inverse};
+use model::{Counts, Layout, Likelihood, Params, free_lapse};
+use quadrature::Rule;
+use serde::Serialize;
+use statrs::distribution::{ContinuousCDF, StudentsT};
+pub use subjects::{SubjectBootstrap, resample_subjects};
+
+/// How to fit and bootstrap the multilevel model.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MultilevelSettings {
+    /// Gauss-Hermite nodes per subject (15; 1 is the Laplace approximation).
+    pub nodes: usize,
+    /// Subject-bootstrap resamples (0: none).
+    pub resamples: usize,
+    pub seed: u64,
+    /// Coverage of the intervals (0.95).
+    pub confidence: f64,
+    /// Equivalence margin in ln JND for the two one-sided tests (`--equivalence`).
+    pub equivalence: Option<f64>,
+}
+
+impl Default for MultilevelSettings {
+    fn default() -> Self {
+        MultilevelSettings {
+            nodes: 15,
+            resamples: 200,
+            seed: 1,
+            confidence: 0.95,
+            equivalence: None,
+        }
+    }
+}
+
+/// What the fits share: the psychometric settings and the target.
+#[derive(Clone, Copy, Debug)]
+pub struct Context<'a> {
+    pub fit: &'a FitSettings,
+    pub target: f64,
+    pub settings: &'a MultilevelSettings,
+}
+
+/// One subject's shrunken JND: the posterior of the subject's threshold given the data at the
+/// estimate (parameter uncertainty not included).
+#[derive(Clone, Debug, Serialize)]
+pub struct ShrunkenJnd {
+    pub subject: String,
+    /// exp(t + E[u | data]), spp.
+    pub spp: f64,
+    /// exp(t + E[u] -+ z SD[u | data]).
+    pub lower: f64,
+    pub upper: f64,
+}
+
+/// The multilevel model of one group.
+#[derive(Clone, Debug, Serialize)]
+pub struct GroupModel {
+    pub key: GroupKey,
+    pub subjects: usize,
+    /// The population JND (the typical subject's, u = 0) in ln spp, and its standard error.
+    pub ln_jnd: f64,
+    pub ln_jnd_se: Option<f64>,
+    /// The population JND as the data support it (never extrapolated).
+    pub jnd: Threshold,
+    /// Wald interval, Student t with subjects - 1 df.
+    pub ci_lower: Option<Bound>,
+    pub ci_upper: Option<Bound>,
+    pub slope: f64,
+    /// Between-subject SD of the threshold in ln spp, with a Wald interval on ln sigma (none
+    /// when sigma is at its lower bound 0.001: no spread detected).
+    pub sigma: f64,
+    pub sigma_ci: Option<(f64, f64)>,
+    pub lapse: f64,
+    pub log_likelihood: f64,
+    pub bootstrap: Option<SubjectBootstrap>,
+    pub shrunken: Vec<ShrunkenJnd>,
+}
+
+/// The Student t quantile with `df` degrees of freedom at `p`.
+pub fn t_quantile(p: f64, df: f64) -> f64 {
+    StudentsT::new(0.0, 1.0, df).expect("df > 0").inverse_cdf(p)
+}
+
+/// Starting vectors: each group's pooled fit (or the middle of the range with a moderate slope
+/// when the pooled fit is a step), with a narrow and a wide between-subject SD.
+fn starts(curves: &[&[Curve]], layout: Layout, cx: &Context, counts: &Counts) -> Vec<Vec<f64>> {
+    let span = (counts.x_hi - counts.x_lo).max(1.0);
+    let mid = 0.5 * (counts.x_lo + counts.x_hi);
+    let per_group: Vec<(f64, f64)> = curves
+        .iter()
+        .map(|c| {
+            let mut pooled = Curve::default();
+            for s in c.iter() {
+                pooled = Curve::from_counts(
+                    pooled
+                        .points
+                        .iter()
+                        .chain(&s.points)
+                        .map(|p| (p.level, p.correct, p.trials)),
+                );
+            }
+            let f = fit_pooled(&pooled, cx.fit);
+            match f
+                .model()
+                .and_then(|m| m.x_at(cx.target).map(|x| (x, m.beta)))
+            {
+                Some((x, b)) => (x.clamp(counts.x_lo - span, counts.x_hi + span), b),
+                None => (mid, 4.0 / span),
+            }
+        })
+        .collect();
+    [0.2, 0.8]
+        .iter()
+        .map(|&sigma| {
+            let t: Vec<f64> = per_group.iter().map(|g| g.0).collect();
+            let nt = layout.thresholds();
+            let mean = t.iter().sum::<f64>() / t.len() as f64;
+            layout.vector(&Params {
+                thresholds: if nt == 1 { vec![mean; t.len()] } else { t },
+                slopes: per_group.iter().map(|g| g.1).collect(),
+                sigma,
+                lapse: 0.01,
+            })
+        })
+        .collect()
+}
+
+/// Fit one model of `curves[k][s]` (group k, subject s); `None` when it is not identified
+/// (fewer than two subjects with data, or a single tested level).
+pub fn estimate(
+    curves: &[&[Curve]],
+    shared_threshold: bool,
+    cx: &Context,
+    warm: Option<&[f64]>,
+) -> Option<(Estimate, Counts)> {
+    let counts = Counts::new(curves);
+    if !counts.identified() {
+        return None;
+    }
+    let layout = Layout {
+        groups: curves.len(),
+        shared_threshold,
+        free_lapse: free_lapse(cx.fit),
+    };
+    let rule = Rule::new(cx.settings.nodes);
+    let lik = Likelihood {
+        counts: &counts,
+        fit: *cx.fit,
+        target: cx.target,
+        rule: &rule,
+    };
+    let starts = match warm {
+        Some(w) => vec![w.to_vec()],
+        None => starts(curves, layout, cx, &counts),
+    };
+    let e = fit::estimate(&lik, layout, &starts, warm.is_none());
+    Some((e, counts))
+}
+
+/// The multilevel model of one group of the data, with its subject bootstrap.
+pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> {
+    let curves: [&[Curve]; 1] = [&g.per_subject];
+    let (e, counts) = estimate(&curves, false, cx, None)?;
+    let n = counts.subjects.len();
+    let df = (n - 1) as f64;
+    let z = 1.0 - 0.5 * (1.0 - cx.settings.confidence);
+    let tq = t_quantile(z, df);
+    let zq = t_quantile(z, 1e6);
+    let t = e.params.thresholds[0];
+    let se = e.se(0);
+    let lo = counts.x_lo;
+    let hi = counts.x_hi;
+    let levels = (lowest(&g.pooled), highest(&g.pooled));
+    let bound = |x: f64| bound_of(x, lo, hi, levels);
+    let si = e.layout.sigma_index();
+    let shrunken = counts
+        .subjects
+        .iter()
+        .zip(&e.subjects)
+        .map(|(&s, i)| ShrunkenJnd {
+            subject: ds.subjects[s].clone(),
+            spp: (t + i.mean).exp(),
+            lower: (t + i.mean - zq * i.sd).exp(),
+            upper: (t + i.mean + zq * i.sd).exp(),
+        })
+        .collect();
+    let bootstrap = (cx.settings.resamples > 0)
+        .then(|| subjects::bootstrap_group(&curves, cx, &e.vector, g.key.id()))
+        .flatten()
+        .map(|b| b.with_bounds(lo, hi, levels));
+    Some(GroupModel {
+        key: g.key.clone(),
+        subjects: n,
+        ln_jnd: t,
+        ln_jnd_se: se,
+        jnd: threshold_of(t, lo, hi, levels),
+        ci_lower: se.map(|s| bound(t - tq * s)),
+        ci_upper: se.map(|s| bound(t + tq * s)),
+        slope: e.params.slopes[0],
+        sigma: e.params.sigma,
+        sigma_ci: e.se(si).map(|s| {
+            let ls = e.params.sigma.ln();
+            ((ls - zq * s).exp(), (ls + zq * s).exp())
+        }),
+        lapse: e.params.lapse,
+        log_likelihood: e.log_likelihood,
+        bootstrap,
+        shrunken,
+    })
+}
+
+/// All groups' models (conditions, scenes, point sets, time filters), in the data's order.
+pub fn group_models(ds: &Dataset, cx: &Context) -> Vec<GroupModel> {
+    ds.groups
+        .iter()
+        .filter_map(|g| group_model(ds, g, cx))
+        .collect()
+}
+
+fn lowest(c: &Curve) -> u32 {
+    c.points.first().map_or(1, |p| p.level)
+}
+
+fn highest(c: &Curve) -> u32 {
+    c.points.last().map_or(1, |p| p.level)
+}
+
+/// ln spp as a threshold inside the tested range, or beyond it with the bound.
+fn threshold_of(x: f64, lo: f64, hi: f64, levels: (u32, u32)) -> Threshold {
+    match bound_of(x, lo, hi, levels) {
+        Bound::BelowRange { bound } => Threshold::BelowRange { bound },
+        Bound::AboveRange { bound } => Threshold::AboveRange { bound },
+        Bound::Value { spp } => Threshold::Value { spp },
+    }
+}
+
+/// ln spp as an interval end inside the tested range, or beyond it with the bound.
+fn bound_of(x: f64, lo: f64, hi: f64, (first, last): (u32, u32)) -> Bound {
+    if x < lo {
+        Bound::BelowRange { bound: first }
+    } else if x > hi {
+        Bound::AboveRange { bound: last }
+    } else {
+        Bound::Value { spp: x.exp() }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::psychometric::{GUESS, LapseMode, Model};
+    use crate::sigmoid::Sigmoid;
+    use crate::simulate::simulate_curve;
+    use renderer::hash::{hash, unit_f64};
+
+    const THESIS: [u32; 8] = [1, 8, 27, 64, 125, 216, 343, 512];
+
+    fn cx(settings: &MultilevelSettings) -> Context<'_> {
+        static FIT: FitSettings = FitSettings {
+            sigmoid: Sigmoid::Logistic,
+            lapse: LapseMode::Fixed,
+            guess: GUESS,
+        };
+        Context {
+            fit: &FIT,
+            target: 0.75,
+            settings,
+        }
+    }
+
+    /// Subjects with thresholds normal around `jnd` spp (SD `sigma` in ln spp), logistic slope
+    /// 1.5, `trials` per thesis level; returns the curves and the subjects' true ln thresholds.
+    fn subjects(n: usize, jnd: f64, sigma: f64, trials: u32, seed: u64) -> (Vec<Curve>, Vec<f64>) {
+        (0..n as u64)
+            .map(|s| {
+                let z = Sigmoid::Normal.inverse(unit_f64(hash(seed, &[0x0ff5, s])).max(1e-12));
+                let t = jnd.ln() + sigma * z;
+                // alpha is the threshold at 0.75 for the logistic with g = 1/2.
+                let m = Model {
+                    sigmoid: Sigmoid::Logistic,
+                    alpha: t,
+                    beta: 1.5,
+                    lapse: 0.0,
+                    guess: GUESS,
+                };
+                (simulate_curve(&m, &THESIS, trials, seed, &[s]), t)
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn identical_subjects_give_the_pooled_fit_and_no_spread() {
+        // Every subject has the same exact expected counts: the marginal likelihood is at most
+        // (max_u L(u))^S, reached only as sigma -> 0 at the pooled optimum, so the model must
+        // find sigma at its bound, the pooled threshold and the pooled likelihood.
+        let truth = Model {
+            sigmoid: Sigmoid::Logistic,
+            alpha: 40f64.ln(),
+            beta: 1.5,
+            lapse: 0.0,
+            guess: GUESS,
+        };
+        let one = Curve::from_counts(THESIS.iter().map(|&l| {
+            let p = truth.p((l as f64).ln());
+            (l, (1000.0 * p).round() as u32, 1000)
+        }));
+        let curves = vec![one.clone(); 6];
+        let settings = MultilevelSettings::default();
+        let (e, _) = estimate(&[&curves], false, &cx(&settings), None).unwrap();
+        let pooled = fit_pooled(
+            &Curve::from_counts(
+                curves
+                    .iter()
+                    .flat_map(|c| c.points.iter().map(|p| (p.level, p.correct, p.trials))),
+            ),
+            &FitSettings::default(),
+        );
+        let m = pooled.model().unwrap();
+        assert!(e.params.sigma < 0.01, "{:?}", e.params);
+        assert!(
+            (e.params.thresholds[0] - m.x_at(0.75).unwrap()).abs() < 1e-3,
+            "{:?}",
+            e.params
+        );
+        assert!(
+            (e.params.slopes[0] - m.beta).abs() < 1e-2,
+            "{:?} {m:?}",
+            e.params
+        );
+        assert!((e.log_likelihood - pooled.log_likelihood).abs() < 1e-3 * 6.0);
+    }
+
+    #[test]
+    fn parameters_are_recovered_within_their_standard_errors() {
+        // 40 subjects, spread 0.5 ln spp, 40 trials per level: the population threshold and ln
+        // sigma within 3 of their own standard errors of the truth (a 0.3% chance each of a
+        // false failure if the errors are right), and the shrunken offsets follow the true
+        // ones.
+        let settings = MultilevelSettings {
+            resamples: 0,
+            ..MultilevelSettings::default()
+        };
+        for (seed, sigma) in [(1u64, 0.5), (2, 0.3)] {
+            let (curves, truth) = subjects(40, 60.0, sigma, 40, seed);
+            let (e, _) = estimate(&[&curves], false, &cx(&settings), None).unwrap();
+            let t_se = e.se(0).unwrap();
+            let ls_se = e.se(e.layout.sigma_index()).unwrap();
+            assert!(
+                (e.params.thresholds[0] - 60f64.ln()).abs() < 3.0 * t_se,
+                "{e:?}"
+            );
+            assert!(
+                (e.params.sigma.ln() - sigma.ln()).abs() < 3.0 * ls_se,
+                "{e:?}"
+            );
+            let lb_se = e.se(1).unwrap();
+            assert!(
+                (e.params.slopes[0].ln() - 1.5f64.ln()).abs() < 3.0 * lb_se,
+                "{e:?}"
+            );
+            // The SE of the population threshold includes the spread: at least sigma / sqrt(S).
+            assert!(t_se > 0.9 * e.params.sigma / 40f64.sqrt(), "{t_se}");
+            // Normal-normal shrinkage: corr(E[u | y], u)^2 = 1 - E[Var(u | y)] / sigma^2; the
+            // sample correlation of 40 pairs within 3 of its standard errors (1 - rho^2) /
+            // sqrt(n) of that.
+            let est: Vec<f64> = e.subjects.iter().map(|i| i.mean).collect();
+            let post_var = e.subjects.iter().map(|i| i.sd * i.sd).sum::<f64>() / 40.0;
+            let rho = (1.0 - post_var / (sigma * sigma)).max(0.0).sqrt();
+            let r = correlation(&est, &truth);
+            let tol = 3.0 * (1.0 - rho * rho) / 40f64.sqrt();
+            assert!(
+                (r - rho).abs() < tol,
+                "shrunken vs true r = {r}, expected {rho} +- {tol}"
+            );
+        }
+    }
+
+    fn correlation(a: &[f64], b: &[f64]) -> f64 {
+        let n = a.len() as f64;
+        let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+        let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+        let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
+        let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
+        cov / (va * vb).sqrt()
+    }
+
+    #[test]
+    fn a_lone_subject_or_a_single_level_is_not_identified() {
+        let settings = MultilevelSettings::default();
+        let (curves, _) = subjects(1, 60.0, 0.5, 4, 3);
+        assert!(estimate(&[&curves], false, &cx(&settings), None).is_none());
+        let single = vec![Curve::from_counts([(64, 3, 4)]); 5];
+        assert!(estimate(&[&single], false, &cx(&settings), None).is_none());
+    }
+}

@@ -1,0 +1,204 @@
+//! `report.md`'s section on the multilevel model (`--model multilevel`): the population JNDs
+//! with both intervals and the between-subject SD, the model's comparisons beside the
+//! t-tests, the equivalence tests, and the shrunken per-subject JNDs.
+
+use super::Report;
+use crate::bootstrap::interval_text;
+use crate::data::Grouping;
+use crate::multilevel::compare::{ModelComparison, TOST_ALPHA};
+use crate::multilevel::{GroupModel, MultilevelSettings};
+use serde::Serialize;
+use std::fmt::Write as _;
+
+/// The multilevel model's results.
+#[derive(Clone, Debug, Serialize)]
+pub struct MultilevelReport {
+    pub groups: Vec<GroupModel>,
+    pub comparisons: Vec<ModelComparison>,
+}
+
+impl Report {
+    pub(super) fn multilevel_section(&self, md: &mut String, s: &MultilevelSettings) {
+        let Some(ml) = &self.multilevel else { return };
+        let conf = 100.0 * s.confidence;
+        let _ = writeln!(
+            md,
+            "## Across subjects: multilevel model\n\n\
+             Per group a population threshold and slope; each subject's threshold is normal in \
+             ln spp around the population's (between-subject SD sigma); guess rate and lapse as \
+             above. Maximum likelihood with adaptive Gauss-Hermite quadrature ({} nodes) over \
+             each subject's offset. The population JND is the typical subject's (offset 0). \
+             Wald interval: Student t with subjects - 1 df on ln JND; subject bootstrap: {} \
+             resamples of whole subjects (seed {}), nearest-rank percentiles. sigma's interval \
+             is Wald on ln sigma (none when sigma is at its lower bound 0.001: no spread \
+             detected).\n",
+            s.nodes, s.resamples, s.seed
+        );
+        let _ = writeln!(
+            md,
+            "| grouping | group | subjects | JND | {conf:.0}% CI (Wald) | {conf:.0}% CI (subject \
+             bootstrap) | sigma (ln spp) | {conf:.0}% CI | slope | lapse |"
+        );
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
+        for g in &ml.groups {
+            let wald = interval_text(&g.ci_lower, &g.ci_upper, ", ").map_or("none".into(), br);
+            let boot = g
+                .bootstrap
+                .as_ref()
+                .and_then(|b| interval_text(&b.ci_lower, &b.ci_upper, ", "))
+                .map_or("none".into(), br);
+            let sigma_ci = g
+                .sigma_ci
+                .map_or("none".into(), |(a, b)| format!("[{a:.3}, {b:.3}]"));
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {wald} | {boot} | {:.3} | {sigma_ci} | {:.3} | {:.3} |",
+                g.key.grouping.name(),
+                g.key.label,
+                g.subjects,
+                g.jnd.display(),
+                g.sigma,
+                g.slope,
+                g.lapse
+            );
+        }
+        let _ = writeln!(md);
+        self.model_comparisons(md, ml, s);
+        shrunken_tables(md, ml);
+    }
+
+    fn model_comparisons(&self, md: &mut String, ml: &MultilevelReport, s: &MultilevelSettings) {
+        if ml.comparisons.is_empty() {
+            return;
+        }
+        let conf = 100.0 * s.confidence;
+        let _ = writeln!(
+            md,
+            "### Comparisons from the model\n\n\
+             Each pair in one model with each subject's offset shared by both groups (the model \
+             assumes no subject x group interaction; the subject bootstrap does not). \
+             Difference = ln JND(a) - ln JND(b) (> 0: a needs more spp; ratio = exp). Wald: \
+             Student t with subjects - 1 df; LR: against one threshold for both, chi-square 1 \
+             df. The thesis-style t-tests above are unchanged.\n"
+        );
+        let _ = writeln!(
+            md,
+            "| family | pair | subjects | difference | ratio | {conf:.0}% CI (Wald) | Wald p | LR | \
+             LR p | {conf:.0}% CI (subject bootstrap) |"
+        );
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
+        for c in &ml.comparisons {
+            let ci = c
+                .ci_lower
+                .zip(c.ci_upper)
+                .map_or("none".into(), |(a, b)| format!("[{a:.3}, {b:.3}]"));
+            let boot = c.bootstrap.as_ref().map_or("none".into(), |b| {
+                format!("[{:.3}, {:.3}]", b.ln_lower, b.ln_upper)
+            });
+            let _ = writeln!(
+                md,
+                "| {} | {} vs {} | {} | {:.3} | {:.3} | {ci} | {} | {:.2} | {:.3e} | {boot} |",
+                c.family.name(),
+                c.a,
+                c.b,
+                c.subjects,
+                c.difference,
+                c.difference.exp(),
+                c.wald_p.map_or("-".into(), |p| format!("{p:.3e}")),
+                c.lr,
+                c.lr_p
+            );
+        }
+        let _ = writeln!(md);
+        if let Some(margin) = s.equivalence {
+            equivalence_table(md, ml, margin);
+        }
+    }
+}
+
+fn br(s: String) -> String {
+    format!("[{s}]")
+}
+
+fn equivalence_table(md: &mut String, ml: &MultilevelReport, margin: f64) {
+    let _ = writeln!(
+        md,
+        "### Equivalence (TOST, margin {margin} in ln JND: ratio within [{:.3}, {:.3}])\n\n\
+         Two one-sided Wald tests at {TOST_ALPHA} each: equivalence is shown when the 90% \
+         interval of the difference lies inside (-{margin}, {margin}); \"not shown\" is no \
+         evidence of a difference.\n",
+        (-margin).exp(),
+        margin.exp()
+    );
+    let _ = writeln!(
+        md,
+        "| family | pair | difference | 90% CI | TOST p | result |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|");
+    for c in &ml.comparisons {
+        let Some(e) = &c.equivalence else { continue };
+        let _ = writeln!(
+            md,
+            "| {} | {} vs {} | {:.3} | [{:.3}, {:.3}] | {:.3e} | {} |",
+            c.family.name(),
+            c.a,
+            c.b,
+            c.difference,
+            e.lower,
+            e.upper,
+            e.p,
+            if e.equivalent {
+                "equivalent"
+            } else {
+                "not shown"
+            }
+        );
+    }
+    let _ = writeln!(md);
+}
+
+fn shrunken_tables(md: &mut String, ml: &MultilevelReport) {
+    let _ = writeln!(
+        md,
+        "### Shrunken per-subject JNDs\n\n\
+         exp(population ln JND + the subject's posterior mean offset), with the posterior's \
+         +-1.96 SD (given the estimates; their own uncertainty not included). All in \
+         `report.json` under `multilevel`.\n"
+    );
+    for grouping in [Grouping::Scene, Grouping::PointSet] {
+        let groups: Vec<&GroupModel> = ml
+            .groups
+            .iter()
+            .filter(|g| g.key.grouping == grouping)
+            .collect();
+        if groups.is_empty() {
+            continue;
+        }
+        let _ = write!(md, "| subject |");
+        for g in &groups {
+            let _ = write!(md, " {} |", g.key.label);
+        }
+        let _ = writeln!(md, "\n|---|{}", "---|".repeat(groups.len()));
+        let mut names: Vec<&String> = groups
+            .iter()
+            .flat_map(|g| g.shrunken.iter().map(|s| &s.subject))
+            .collect();
+        names.sort();
+        names.dedup();
+        for name in names {
+            let _ = write!(md, "| {name} |");
+            for g in &groups {
+                match g.shrunken.iter().find(|s| &s.subject == name) {
+                    Some(s) => {
+                        let _ = write!(md, " {:.1} [{:.1}, {:.1}] |", s.spp, s.lower, s.upper);
+                    }
+                    None => {
+                        let _ = write!(md, " - |");
+                    }
+                }
+            }
+            let _ = writeln!(md);
+        }
+        let _ = writeln!(md);
+    }
+}
