@@ -3,7 +3,9 @@
 //! K groups (one condition, scene or point set; two for a comparison) seen by the same
 //! subjects. In group k subject s answers with
 //!
-//!     p(x) = g + (1 - g - lapse) S(beta_k (alpha_k + u_s - x)),   u_s ~ N(0, sigma^2),
+//! ```text
+//! p(x) = g + (1 - g - lapse) S(beta_k (alpha_k + u_s - x)),   u_s ~ N(0, sigma^2),
+//! ```
 //!
 //! x = ln spp: u_s shifts the subject's threshold in ln spp, the same shift in every group of
 //! the model. The parameters are the population thresholds t_k (ln spp where the function of
