@@ -2,8 +2,10 @@
 //! prediction of visibility (`blurlab predict`) needs to turn pixels into luminance and visual
 //! angle. The defaults are the thesis's monitor, a Dell U2311H (23-inch diagonal, 1920x1080,
 //! thesis Chapter IV) with the manufacturer's typical peak luminance (300 cd/m^2) and contrast
-//! ratio (1000:1, so black 0.3 cd/m^2), seen from 0.6 m: the thesis gives no viewing distance,
-//! 0.6 m is a usual desk distance (about 40 pixels per degree on that monitor).
+//! ratio (1000:1, so black 0.3 cd/m^2), seen from 0.7 m: the thesis gives no viewing distance,
+//! and 0.7 m is the one the manifest's FLIP error is measured at (FLIP's own default, hard-coded
+//! in `renderer::metrics`), so the prediction and the stored error see the same display (about
+//! 46 pixels per degree on that monitor).
 
 use anyhow::{Result, bail};
 use serde::{Deserialize, Serialize};
@@ -28,7 +30,7 @@ impl Default for DisplaySpec {
         Self {
             diagonal_inches: 23.0,
             resolution: [1920, 1080],
-            distance_m: 0.6,
+            distance_m: 0.7,
             peak_cd_m2: 300.0,
             black_cd_m2: 0.3,
         }
@@ -89,9 +91,9 @@ mod tests {
         let d = DisplaySpec::default();
         // The U2311H's published pixel pitch is 0.265 mm.
         assert!((d.pixel_pitch_m() * 1e3 - 0.265).abs() < 0.001);
-        // 0.6 m: 2 * 600 mm * tan(0.5 deg) / 0.2652 mm = 39.5 px per degree.
+        // 0.7 m: 2 * 700 mm * tan(0.5 deg) / 0.2652 mm = 46.1 px per degree.
         assert!(
-            (d.pixels_per_degree() - 39.5).abs() < 0.1,
+            (d.pixels_per_degree() - 46.1).abs() < 0.1,
             "{}",
             d.pixels_per_degree()
         );
