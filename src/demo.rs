@@ -118,6 +118,11 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         analysis::options::AnalyzeOptions::new(vec![sessions.clone()], report.clone());
     analyze.bootstrap = args.bootstrap;
     let analysis_report = analysis::options::run_report(&analyze)?;
+    // The library no longer prints; tolerated problems (torn last lines) are shown here, as
+    // `analyze` shows them.
+    for w in &analysis_report.warnings {
+        eprintln!("warning: {w}");
+    }
     let convergence = report.join("convergence");
     renderer::convergence::write_report(&stimuli, &convergence)?;
 
