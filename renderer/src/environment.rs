@@ -10,6 +10,8 @@
 //! warning up to [`MAX_NEGATIVE_SHARE`], refused above it unless the scene says how to treat
 //! them (`environment.negatives`, `docs/limits.md`).
 
+mod lanes;
+
 use glam::{Vec3, Vec3A};
 use std::f32::consts::PI;
 use std::path::Path;
@@ -153,16 +155,7 @@ impl Environment {
         let fy = (v * self.height as f32 - 0.5).clamp(0.0, (self.height - 1) as f32);
         let (x0, y0) = (floor(fx), floor(fy));
         let (ax, ay) = (fx - x0, fy - y0);
-        let w = self.width as i64;
-        // Columns wrap around; only u at the seam leaves [0, w), so the remainder's integer
-        // division is taken there only.
-        let col = |x: i64| {
-            if (0..w).contains(&x) {
-                x as usize
-            } else {
-                x.rem_euclid(w) as usize
-            }
-        };
+        let col = |x: i64| wrap_column(x, self.width);
         let (c0, c1) = (col(x0 as i64), col(x0 as i64 + 1));
         let r0 = y0 as usize;
         let r1 = (r0 + 1).min(self.height - 1);
@@ -173,6 +166,18 @@ impl Environment {
         let top = at(r0, c0).lerp(at(r0, c1), ax);
         let bottom = at(r1, c0).lerp(at(r1, c1), ax);
         top.lerp(bottom, ay)
+    }
+}
+
+/// Column `x` of a map `width` texels wide, wrapped around. Only u at the seam leaves
+/// `[0, width)`, so the remainder's integer division is taken there only.
+#[inline(always)]
+fn wrap_column(x: i64, width: usize) -> usize {
+    let w = width as i64;
+    if (0..w).contains(&x) {
+        x as usize
+    } else {
+        x.rem_euclid(w) as usize
     }
 }
 

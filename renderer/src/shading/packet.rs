@@ -13,8 +13,8 @@
 //! What the lanes do not do, a lane hands to the scalar code: a ray the packet form cannot
 //! trace (see [`crate::accel::packet`]) is traced by [`Tracer::radiance`], a shadow ray by
 //! [`World::occluded`](crate::accel::World::occluded), a mirror reflection by
-//! [`Tracer::reflection`], a miss's environment by [`Tracer::background`], and the Phong lobe's
-//! `powf` per lane.
+//! [`Tracer::reflection`], and the Phong lobe's `powf` per lane. The lanes that miss look up
+//! the environment together ([`crate::environment::Environment::radiance_lanes`]).
 
 use super::{Surface, Tracer, phong};
 use crate::accel::SurfaceHit;
@@ -41,26 +41,43 @@ impl Tracer<'_> {
             0 => [Lane::ZERO; 3],
             _ => self.shade_packet(small, ray, &nearest, hit),
         };
-        if self.scene.environment.is_some() {
-            for i in lanes(packet & !hit) {
-                set(&mut out, i, self.background(ray.lane(i).dir));
-            }
-        }
+        self.background_lanes(ray, packet & !hit, &mut out);
         for i in lanes(live & !packet) {
             set(&mut out, i, self.radiance(&ray.lane(i), 0));
         }
         out
     }
 
-    /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` of `live`, lane by lane, for
-    /// worlds without a packet form (meshes, spinning instances): the camera rays were made
-    /// in lanes, and the radiances are summed in lanes.
+    /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` of `live`, for worlds without a
+    /// packet form (meshes, spinning instances): the camera rays were made in lanes, each lane
+    /// is intersected and shaded by the scalar path, the lanes that miss look up the
+    /// environment together, and the radiances are summed in lanes.
     pub fn radiance_lanes(&self, ray: &RayPacket, live: u32) -> V3 {
         let mut out = [Lane::ZERO; 3];
+        let mut missed = 0;
+        self.count(live);
         for i in lanes(live) {
-            set(&mut out, i, self.radiance(&ray.lane(i), 0));
+            let r = ray.lane(i);
+            match self.world.intersect(&r) {
+                Some(hit) => set(&mut out, i, self.shade(&r, &hit, 0)),
+                None => missed |= 1 << i,
+            }
         }
+        self.background_lanes(ray, missed, &mut out);
         out
+    }
+
+    /// [`Tracer::background`] of the lanes of `missed` into `out` (left as it is in the
+    /// others): the environment lookups in lanes ([`Environment::radiance_lanes`]).
+    ///
+    /// [`Environment::radiance_lanes`]: crate::environment::Environment::radiance_lanes
+    fn background_lanes(&self, ray: &RayPacket, missed: u32, out: &mut V3) {
+        let Some(env) = self.scene.environment.as_ref().filter(|_| missed != 0) else {
+            return;
+        };
+        let sky = env.radiance_lanes(&ray.dir, missed);
+        let m = lane_mask(missed);
+        *out = std::array::from_fn(|k| m.bitselect(sky[k], out[k]));
     }
 
     /// [`Tracer::shade`] at depth 0 for the lanes of `hit` (zero in the others).
