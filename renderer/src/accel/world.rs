@@ -13,7 +13,7 @@
 //! [`TriangleMesh::new`]: crate::geometry::TriangleMesh::new
 
 use super::packet::SmallWorld;
-use super::pose::{Pose, PoseOverTime};
+use super::pose::{Pose, PoseCache, PoseOverTime};
 use super::swept::swept_bounds;
 use super::{Instance, SurfaceHit};
 use crate::bvh::{BoxRay, Bvh4};
@@ -125,10 +125,15 @@ impl World {
 
     /// Closest hit with `ray.t_min < t < ray.t_max`.
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceHit> {
+        self.intersect_cached(ray, &PoseCache::default())
+    }
+
+    /// [`World::intersect`], spinning poses from and into `cache`.
+    pub fn intersect_cached(&self, ray: &Ray, cache: &PoseCache) -> Option<SurfaceHit> {
         let mut best: Option<(u32, ShapeHit, Pose)> = None;
         let mut t_max = ray.t_max;
         let mut visit = |instance: u32, t_max: f32| -> f32 {
-            let pose = self.poses[instance as usize].at(ray.time);
+            let pose = cache.at(instance, &self.poses[instance as usize], ray.time);
             let local = pose.ray_to_object(&Ray { t_max, ..*ray });
             match self.instances[instance as usize].shape.closest(&local) {
                 Some(h) => {
@@ -173,9 +178,14 @@ impl World {
     /// Whether anything is hit with `ray.t_min < t < ray.t_max` (shadow rays; stops at the
     /// first hit found).
     pub fn occluded(&self, ray: &Ray) -> bool {
+        self.occluded_cached(ray, &PoseCache::default())
+    }
+
+    /// [`World::occluded`], spinning poses from and into `cache`.
+    pub fn occluded_cached(&self, ray: &Ray, cache: &PoseCache) -> bool {
         let blocks = |instance: u32| {
-            let local = self.poses[instance as usize]
-                .at(ray.time)
+            let local = cache
+                .at(instance, &self.poses[instance as usize], ray.time)
                 .ray_to_object(ray);
             self.instances[instance as usize].shape.occluded(&local)
         };

@@ -15,6 +15,7 @@
 
 mod packet;
 
+use crate::accel::pose::PoseCache;
 use crate::accel::{SurfaceHit, World};
 use crate::geometry::Ray;
 use crate::light::{Light, LightSample};
@@ -30,6 +31,8 @@ pub struct Tracer<'a> {
     pub scene: &'a Scene,
     max_depth: u32,
     rays: Cell<u64>,
+    /// The spinning instances' poses at the current camera sample's time.
+    poses: PoseCache,
 }
 
 impl<'a> Tracer<'a> {
@@ -44,6 +47,7 @@ impl<'a> Tracer<'a> {
             scene,
             max_depth,
             rays: Cell::new(0),
+            poses: PoseCache::new(world.instances().len()),
         }
     }
 
@@ -56,7 +60,7 @@ impl<'a> Tracer<'a> {
     /// `depth` mirror bounces have been taken already.
     pub fn radiance(&self, ray: &Ray, depth: u32) -> Vec3 {
         self.rays.set(self.rays.get() + 1);
-        match self.world.intersect(ray) {
+        match self.world.intersect_cached(ray, &self.poses) {
             Some(hit) => self.shade(ray, &hit, depth),
             None => self.background(ray.dir),
         }
@@ -97,7 +101,7 @@ impl<'a> Tracer<'a> {
                 continue;
             };
             self.rays.set(self.rays.get() + 1);
-            if self.world.occluded(&shadow) {
+            if self.world.occluded_cached(&shadow, &self.poses) {
                 continue;
             }
             sum += lit_by(s, &sample, cos);

@@ -58,7 +58,7 @@ impl Tracer<'_> {
         self.count(live);
         for i in lanes(live) {
             let r = ray.lane(i);
-            match self.world.intersect(&r) {
+            match self.world.intersect_cached(&r, &self.poses) {
                 Some(hit) => set(&mut out, i, self.shade(&r, &hit, 0)),
                 None => missed |= 1 << i,
             }
@@ -141,7 +141,7 @@ impl Tracer<'_> {
             _ => small.blocked(shadow, simple),
         };
         for i in lanes(live & !simple) {
-            blocked |= u32::from(self.world.occluded(&shadow.lane(i))) << i;
+            blocked |= u32::from(self.world.occluded_cached(&shadow.lane(i), &self.poses)) << i;
         }
         blocked
     }
