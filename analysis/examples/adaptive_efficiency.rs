@@ -30,6 +30,7 @@ use anyhow::{Context, Result};
 use experiment::log::SessionLog;
 use experiment::procedure::interleave::Track;
 use experiment::procedure::quest_plus::QuestPlus;
+use experiment::procedure::spec::QuestGoal;
 use experiment::procedure::{self, ProcedureSpec, QuestPlusSpec, StairRule, StaircaseSpec};
 use experiment::simulate::simulate_subject;
 use experiment::{Design, Observer};
@@ -78,14 +79,20 @@ fn procedures() -> Vec<(String, ProcedureSpec)> {
         "constant stimuli".to_string(),
         ProcedureSpec::ConstantStimuli,
     )];
-    for n in [8, 11, 16, 24, 32] {
-        out.push((
-            format!("QUEST+ {n} per condition"),
-            ProcedureSpec::QuestPlus(QuestPlusSpec {
-                trials: n,
-                ..QuestPlusSpec::default()
-            }),
-        ));
+    for (goal, label) in [
+        (QuestGoal::Joint, ""),
+        (QuestGoal::Threshold, ", threshold goal"),
+    ] {
+        for n in [8, 11, 16, 24, 32] {
+            out.push((
+                format!("QUEST+ {n} per condition{label}"),
+                ProcedureSpec::QuestPlus(QuestPlusSpec {
+                    trials: n,
+                    goal,
+                    ..QuestPlusSpec::default()
+                }),
+            ));
+        }
     }
     for (rule, label) in [
         (StairRule::OneUpTwoDown, "1-up/2-down"),

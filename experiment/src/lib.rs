@@ -25,6 +25,7 @@ pub mod procedure;
 pub mod refresh;
 pub mod session;
 pub mod simulate;
+pub mod stream;
 pub mod trials;
 
 #[cfg(feature = "gui")]

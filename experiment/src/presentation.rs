@@ -99,6 +99,14 @@ impl Presentation {
     /// What to show at `now` (seconds on the session's clock), recording onsets, frame times
     /// and drops.
     pub fn tick(&mut self, now: f64) -> View {
+        self.tick_ready(now, [u32::MAX; 2])
+    }
+
+    /// [`Self::tick`] while only the first `ready[p - 1]` frames of both videos of pair p are
+    /// loaded (streaming playback): a frame not loaded when due is never drawn. The last drawn
+    /// frame stays up instead, and the frames skipped meanwhile count as dropped, as after a late
+    /// repaint; a pair whose frame 0 is not loaded does not start (the fixation or gap goes on).
+    pub fn tick_ready(&mut self, now: f64, ready: [u32; 2]) -> View {
         loop {
             let step = self.steps[self.current];
             let first = self.step_start.is_none();
@@ -122,16 +130,41 @@ impl Presentation {
                         self.next_step();
                         continue;
                     }
+                    let frame = (index % self.frames as u64) as u32;
+                    let ready = match pairs {
+                        Pairs::One(p) => ready[usize::from(p.clamp(1, 2)) - 1],
+                        Pairs::Both => ready[0].min(ready[1]),
+                    };
+                    if frame >= ready {
+                        return self.hold(pairs);
+                    }
                     if self.last_index != Some(index) {
                         let expected = self.last_index.map_or(0, |l| l + 1);
                         self.dropped += (index - expected) as u32;
                         self.frame_times_ms.push(now * 1000.0);
                         self.last_index = Some(index);
                     }
-                    return View::Play {
-                        pairs,
-                        frame: (index % self.frames as u64) as u32,
-                    };
+                    return View::Play { pairs, frame };
+                }
+            }
+        }
+    }
+
+    /// The view while the frame due is not loaded: the last one drawn, or, before the first,
+    /// the step before playback (which then starts later).
+    fn hold(&mut self, pairs: Pairs) -> View {
+        match self.last_index {
+            Some(l) => View::Play {
+                pairs,
+                frame: (l % self.frames as u64) as u32,
+            },
+            None => {
+                self.step_start = None;
+                self.onsets_ms.pop();
+                if self.current > 0 && matches!(self.steps[self.current - 1], Step::Gap(_)) {
+                    View::Gap
+                } else {
+                    View::Fixation
                 }
             }
         }
@@ -306,6 +339,41 @@ mod tests {
         let (_, mut done, t_respond) = run(&d, 4, 32.0, 1.0 / 32.0);
         done.after_pause(2.0);
         assert_eq!(done.response_time_ms(t_respond + 3.0), 1000.0);
+    }
+
+    /// Streaming: pair 1's frames load at half the video's rate; no frame is shown before it is
+    /// loaded, every due frame is either shown or counted as dropped, and pair 1 waits for
+    /// frame 0 (pair 2's videos are all in).
+    #[test]
+    fn a_frame_not_yet_loaded_is_never_shown_and_counts_as_dropped() {
+        let d = small();
+        let (frames, fps, dt) = (8, 32.0, 1.0 / 64.0);
+        let mut p = Presentation::new(&d, frames, fps);
+        let t0 = 10.0;
+        let loaded = |t: f64| (((t - t0 - 0.55) * fps / 2.0).max(0.0) as u32).min(frames);
+        let (mut t, mut shown) = (t0, Vec::new());
+        while !p.responding() {
+            let ready = loaded(t);
+            match p.tick_ready(t, [ready, u32::MAX]) {
+                View::Play { pairs, frame } => {
+                    if pairs == Pairs::One(1) {
+                        assert!(frame < ready, "frame {frame} shown with {ready} loaded");
+                    }
+                    shown.push(frame);
+                }
+                View::Fixation => assert!(t < t0 + 0.62, "fixation at {t}"),
+                _ => {}
+            }
+            t += dt;
+            assert!(t < t0 + 100.0);
+        }
+        let timing = p.timing(t, 0, 0.0);
+        // Pair 1 began only once frame 0 was loaded (0.5 s fixation; loaded at 0.6125 s).
+        assert!(timing.onsets_ms[0] >= (t0 + 0.6125) * 1000.0 - 1e-6);
+        let distinct = timing.frame_times_ms.len() as u32;
+        assert_eq!(distinct + timing.dropped_frames, 2 * frames);
+        assert!(timing.dropped_frames > 0);
+        assert!(shown.windows(2).all(|w| w[0] <= w[1] || w[1] == 0));
     }
 
     #[test]

@@ -5,12 +5,15 @@
 
 use experiment::log::{SessionLog, TrialRecord};
 use experiment::log_writer::Durability;
-use experiment::session::{Session, Stage, StartInfo};
+use experiment::session::{Session, Stage};
 use experiment::simulate::answer_all;
 use experiment::trials::Trial;
 use experiment::{Design, Observer};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+use support::{Fixture, start};
+
+mod support;
 
 const DESIGN: &str = r#"{
     "format": "blurlab-design/1", "name": "adaptive", "manifest": "none",
@@ -28,43 +31,13 @@ const STAIRS: &str =
 const OBSERVER: &str = r#"{"format": "blurlab-observer/1", "name": "o", "slope": 1.5,
     "thresholds": [{"scene": "plane", "spp": 20}, {"spp": 50}]}"#;
 
-struct Fixture {
-    _dir: tempfile::TempDir,
-    design: Design,
-    observer: Observer,
-    path: PathBuf,
-}
-
 fn fixture(procedure: &str) -> Fixture {
-    let dir = tempfile::tempdir().unwrap();
-    let design_path = dir.path().join("design.json");
-    std::fs::write(&design_path, DESIGN.replace("PROCEDURE", procedure)).unwrap();
-    Fixture {
-        design: Design::load(&design_path).unwrap(),
-        observer: Observer::parse(Path::new("o.json"), OBSERVER).unwrap(),
-        path: dir.path().join("s01.jsonl"),
-        _dir: dir,
-    }
-}
-
-fn info() -> StartInfo {
-    StartInfo {
-        mode: "simulated".into(),
-        display: None,
-        observer: None,
-        started_unix: 0.0,
-    }
-}
-
-fn open(design: &Design, path: &Path, durability: Durability) -> Session {
-    let mut s = Session::open(design, "s01", path, durability).unwrap();
-    s.start(info()).unwrap();
-    s
+    support::fixture(&DESIGN.replace("PROCEDURE", procedure), OBSERVER)
 }
 
 /// The uninterrupted session's trials.
 fn reference(f: &Fixture) -> Vec<TrialRecord> {
-    let mut s = open(&f.design, &f.path, Durability::Flush);
+    let mut s = start(&f.design, &f.path, Durability::Flush);
     answer_all(&mut s, &f.observer).unwrap();
     SessionLog::read(&f.path).unwrap().trials
 }
@@ -93,7 +66,7 @@ fn cut_after_any_line_an_adaptive_session_continues_as_an_uninterrupted_one() {
         let ends: Vec<usize> = (0..full.len()).filter(|&i| full[i] == b'\n').collect();
         for (k, &end) in ends.iter().enumerate() {
             std::fs::write(&f.path, &full[..=end]).unwrap();
-            let mut s = open(&f.design, &f.path, Durability::Flush);
+            let mut s = start(&f.design, &f.path, Durability::Flush);
             let next = first_trial(&mut s);
             match want.get(k) {
                 Some(w) => assert!(next.as_ref().unwrap().matches(w), "{procedure}: line {k}"),
@@ -119,7 +92,7 @@ fn kill_child() {
     let dir = PathBuf::from(dir);
     let design = Design::load(&dir.join("design.json")).unwrap();
     let observer = Observer::parse(Path::new("o.json"), OBSERVER).unwrap();
-    let mut s = open(&design, &dir.join("s01.jsonl"), Durability::Sync);
+    let mut s = start(&design, &dir.join("s01.jsonl"), Durability::Sync);
     loop {
         match s.stage() {
             Stage::Practice(_) | Stage::Trial(_) => {
@@ -158,7 +131,7 @@ fn killed_with_sigkill_the_resumed_session_presents_the_uninterrupted_next_trial
         done >= 6 && done < want.len(),
         "{done} trials before the kill"
     );
-    let mut s = open(&f.design, &f.path, Durability::Flush);
+    let mut s = start(&f.design, &f.path, Durability::Flush);
     let next = first_trial(&mut s).unwrap();
     assert!(next.matches(&want[done]), "{next:?} vs {:?}", want[done]);
     answer_all(&mut s, &f.observer).unwrap();

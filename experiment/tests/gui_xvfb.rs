@@ -95,7 +95,7 @@ impl Xvfb {
         }
     }
 
-    fn command(&self, program: &str) -> Command {
+    fn command(&self, program: impl AsRef<std::ffi::OsStr>) -> Command {
         let mut c = Command::new(program);
         c.env("DISPLAY", &self.display)
             .env("XDG_RUNTIME_DIR", self.runtime_dir.path());
@@ -219,8 +219,13 @@ struct Run {
 fn start_app(x: &Xvfb, study: &Study, scale: f32, subject: &str) -> Run {
     let stderr = study.root.join(format!("app-{scale}.stderr"));
     let sessions = study.root.join("sessions");
+    // BLURLAB_EXPERIMENT_BIN runs another build of the app (e.g. main's, for a comparison).
+    let bin = std::env::var_os("BLURLAB_EXPERIMENT_BIN").map_or(
+        PathBuf::from(env!("CARGO_BIN_EXE_experiment")),
+        PathBuf::from,
+    );
     let app = x
-        .command(env!("CARGO_BIN_EXE_experiment"))
+        .command(bin)
         .env("WINIT_X11_SCALE_FACTOR", scale.to_string())
         .args(["run", "--no-vsync", "--subject", subject, "--design"])
         .arg(&study.design_path)
@@ -290,9 +295,15 @@ fn spec(width: u32, height: u32, frames: u32, loops: u32) -> StudySpec {
     }
 }
 
-/// Answer the trial, close from the end screen, and return the finished log.
-fn answer_and_close(x: &Xvfb, window: &str, run: &mut Run, deadline: Instant) -> SessionLog {
-    while trial_lines(&run.log) == 0 {
+/// Answer the last of `trials` trials, close from the end screen, and return the finished log.
+fn answer_and_close(
+    x: &Xvfb,
+    window: &str,
+    run: &mut Run,
+    deadline: Instant,
+    trials: usize,
+) -> SessionLog {
+    while trial_lines(&run.log) < trials {
         assert!(Instant::now() < deadline, "the answer was never logged");
         x.key(window, "1");
         std::thread::sleep(Duration::from_millis(300));
@@ -303,7 +314,8 @@ fn answer_and_close(x: &Xvfb, window: &str, run: &mut Run, deadline: Instant) ->
         if let Some(status) = run.app.0.try_wait().unwrap() {
             let err = std::fs::read_to_string(&run.stderr).unwrap();
             assert!(status.success(), "app failed: {status}\n{err}");
-            assert!(err.contains("1 of 1 trials answered"), "{err}");
+            let done = format!("{trials} of {trials} trials answered");
+            assert!(err.contains(&done), "{err}");
             break;
         }
         assert!(
@@ -332,7 +344,7 @@ fn stimulus_frames_reach_the_screen_pixel_for_pixel_at_scale_1_and_1_5() {
         let mut run = start_app(&x, &study, scale, &subject);
         let window = x.find_window(&format!("blurlab gui {subject}"), &mut run, deadline);
         watch_both_pairs(&x, &window, &expected, deadline);
-        let log = answer_and_close(&x, &window, &mut run, deadline);
+        let log = answer_and_close(&x, &window, &mut run, deadline, 1);
 
         let display = log.header.display.expect("display in header");
         assert_eq!((display.width, display.height), screen);
@@ -450,21 +462,40 @@ fn peak_rss_mib(pid: u32) -> f64 {
         .map_or(0.0, |kb| kb / 1024.0)
 }
 
+/// Press `key` (Space once a second, answers every 0.3 s) until `done`.
+fn press_until(x: &Xvfb, window: &str, key: &str, deadline: Instant, done: impl Fn() -> bool) {
+    let every = Duration::from_millis(if key == "space" { 1000 } else { 300 });
+    while !done() {
+        assert!(
+            Instant::now() < deadline,
+            "still pressing {key} at the deadline"
+        );
+        x.key(window, key);
+        std::thread::sleep(every);
+    }
+}
+
+/// A measurement's study: in `BLURLAB_BENCH_DIR`, which keeps the rendered stimuli between runs
+/// (the job runner resumes, so a second run renders nothing), else in the temporary folder
+/// returned; earlier sessions removed.
+fn bench_study(spec: &StudySpec) -> (tempfile::TempDir, Study) {
+    let temp = tempfile::tempdir().unwrap();
+    let root =
+        std::env::var_os("BLURLAB_BENCH_DIR").map_or(temp.path().to_path_buf(), PathBuf::from);
+    let _ = std::fs::remove_dir_all(root.join("sessions"));
+    let t0 = Instant::now();
+    let study = write_study(&root, spec).unwrap();
+    eprintln!("stimuli ready in {:.1} s", t0.elapsed().as_secs_f64());
+    (temp, study)
+}
+
 #[test]
 #[ignore = "measurement: renders 2 x 210 frames of 768x768; run in release, see docs/benchmarks/experiment.md"]
 fn thesis_size_trial_under_xvfb() {
     if !gui_tools_present() {
         return;
     }
-    // BLURLAB_BENCH_DIR keeps the rendered stimuli between runs (the job runner resumes, so a
-    // second run renders nothing); otherwise a temporary folder.
-    let temp = tempfile::tempdir().unwrap();
-    let root =
-        std::env::var_os("BLURLAB_BENCH_DIR").map_or(temp.path().to_path_buf(), PathBuf::from);
-    let _ = std::fs::remove_dir_all(root.join("sessions"));
-    let t0 = Instant::now();
-    let study = write_study(&root, &spec(768, 768, 210, 1)).unwrap();
-    eprintln!("stimuli ready in {:.1} s", t0.elapsed().as_secs_f64());
+    let (_temp, study) = bench_study(&spec(768, 768, 210, 1));
     // Decoding alone (what the rayon pool does during a preload), for the breakdown.
     let design = Design::load(&study.design_path).unwrap();
     let trial = plan(&design, "m1").main[0].clone();
@@ -499,19 +530,11 @@ fn thesis_size_trial_under_xvfb() {
     let sampler = CpuSampler::start(run.app.0.id(), x.server.0.id());
     // No screenshots here: they would compete with playback for the CPU. Start the session
     // (the header appears), then answer once the presentation is over.
-    while !run.log.exists() {
-        assert!(Instant::now() < deadline, "the session never started");
-        x.key(&window, "space");
-        std::thread::sleep(Duration::from_millis(1000));
-    }
-    while trial_lines(&run.log) == 0 {
-        assert!(Instant::now() < deadline);
-        x.key(&window, "1");
-        std::thread::sleep(Duration::from_millis(300));
-    }
+    press_until(&x, &window, "space", deadline, || run.log.exists());
+    press_until(&x, &window, "1", deadline, || trial_lines(&run.log) == 1);
     let peak = peak_rss_mib(run.app.0.id());
     let samples = sampler.finish();
-    let log = answer_and_close(&x, &window, &mut run, deadline);
+    let log = answer_and_close(&x, &window, &mut run, deadline, 1);
     let t = &log.trials[0];
     let (median, p95, max) = pacing(t);
     // CPU spent during playback (first drawn frame to last), per drawn frame: what a quiet
@@ -547,5 +570,67 @@ fn thesis_size_trial_under_xvfb() {
         median,
         p95,
         max
+    );
+}
+
+/// The trial after an answer that decides it: a weighted staircase over levels 1 and 2 (one
+/// condition) starts at level 2 and, answered wrong, steps to level 1, so the second trial's
+/// test video is new and could not be loaded during the answer; its reference is the first
+/// trial's. The subject is the first whose second trial shows the new video in pair 1 (loaded
+/// against the clock from the fixation on: the harder case).
+#[test]
+#[ignore = "measurement: renders 3 x 210 frames of 768x768, see docs/benchmarks/experiment.md"]
+fn thesis_size_adaptive_next_trial_under_xvfb() {
+    if !gui_tools_present() {
+        return;
+    }
+    let mut spec = spec(768, 768, 210, 1);
+    spec.levels = vec![1, 2];
+    spec.design["procedure"] = json!({"staircase": {
+        "rule": {"weighted": {"target": 0.75}}, "interleaved": 1, "trials": 2
+    }});
+    let (_temp, study) = bench_study(&spec);
+    let design = Design::load(&study.design_path).unwrap();
+    let (subject, wrong) = (1..100)
+        .find_map(|i| {
+            let subject = format!("m{i}");
+            let mut p = experiment::procedure::start(&design, &subject);
+            let first = p.current().unwrap().clone();
+            p.answer(false);
+            let second = p.current().unwrap();
+            let new_in_pair_1 =
+                second.test_stimulus != first.test_stimulus && second.diff_pair == 1;
+            new_in_pair_1.then(|| (subject, (3 - first.diff_pair).to_string()))
+        })
+        .expect("a subject whose second trial shows a new video in pair 1");
+    let x = Xvfb::start(1920, 1080);
+    let deadline = Instant::now() + Duration::from_secs(300);
+    let mut run = start_app(&x, &study, 1.0, &subject);
+    let window = x.find_window(&format!("blurlab gui {subject}"), &mut run, deadline);
+    press_until(&x, &window, "space", deadline, || run.log.exists());
+    press_until(&x, &window, &wrong, deadline, || trial_lines(&run.log) == 1);
+    press_until(&x, &window, "1", deadline, || trial_lines(&run.log) == 2);
+    let peak = peak_rss_mib(run.app.0.id());
+    let log = answer_and_close(&x, &window, &mut run, deadline, 2);
+    let (first, t) = (&log.trials[0], &log.trials[1]);
+    assert!(!first.correct && t.test_stimulus != first.test_stimulus && t.diff_pair == 1);
+    let (median, p95, max) = pacing(t);
+    eprintln!(
+        "adaptive next trial (one new 768x768 video of 210 frames in pair 1, 30 fps, Xvfb, \
+         glow/llvmpipe, no vsync): preload {:.0} ms (first trial, both videos: {:.0} ms), peak \
+         RSS {:.0} MiB, frames drawn {}, dropped {} (first trial {}), frame interval median \
+         {:.2} ms, p95 {:.2} ms, max {:.2} ms; load average {}",
+        t.preload_ms,
+        first.preload_ms,
+        peak,
+        t.frame_times_ms.len(),
+        t.dropped_frames,
+        first.dropped_frames,
+        median,
+        p95,
+        max,
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
     );
 }

@@ -3,12 +3,15 @@
 //! must hold exactly the planned trials, in the planned order, each once, with the answers an
 //! uninterrupted session gives. The kill is simulated by truncating a complete log.
 
+use experiment::Design;
 use experiment::log::{LogLine, SessionLog, TrialRecord};
 use experiment::log_writer::Durability;
-use experiment::session::{Session, Stage, StartInfo};
+use experiment::session::{Session, Stage};
 use experiment::simulate::answer_all;
-use experiment::{Design, Observer};
-use std::path::{Path, PathBuf};
+use std::path::Path;
+use support::{Fixture, info};
+
+mod support;
 
 const DESIGN: &str = r#"{
     "format": "blurlab-design/1", "name": "resume", "manifest": "none",
@@ -21,38 +24,12 @@ const DESIGN: &str = r#"{
 const OBSERVER: &str = r#"{"format": "blurlab-observer/1", "name": "o", "slope": 1.0,
     "thresholds": [{"spp": 10}]}"#;
 
-struct Fixture {
-    _dir: tempfile::TempDir,
-    design: Design,
-    observer: Observer,
-    path: PathBuf,
-}
-
 fn fixture() -> Fixture {
-    let dir = tempfile::tempdir().unwrap();
-    let design_path = dir.path().join("design.json");
-    std::fs::write(&design_path, DESIGN).unwrap();
-    Fixture {
-        design: Design::load(&design_path).unwrap(),
-        observer: Observer::parse(Path::new("o.json"), OBSERVER).unwrap(),
-        path: dir.path().join("s01.jsonl"),
-        _dir: dir,
-    }
-}
-
-fn info() -> StartInfo {
-    StartInfo {
-        mode: "simulated".into(),
-        display: None,
-        observer: None,
-        started_unix: 0.0,
-    }
+    support::fixture(DESIGN, OBSERVER)
 }
 
 fn start(f: &Fixture, durability: Durability) -> Session {
-    let mut s = Session::open(&f.design, "s01", &f.path, durability).unwrap();
-    s.start(info()).unwrap();
-    s
+    support::start(&f.design, &f.path, durability)
 }
 
 /// Answer `n` trials (advancing through screens), then drop the session as a kill would.

@@ -1,16 +1,28 @@
 //! The app's video cache: the decoded videos of the current trial by stimulus id, and the next
 //! trial's videos loading in advance while the subject answers.
 
-use super::loader::{LoadState, Loader, Video};
+use super::loader::{Budget, LoadState, Loader, Video};
+use crate::design::Design;
 use crate::frames::VideoSource;
+use crate::stream;
 use crate::trials::Trial;
 use renderer::manifest::Manifest;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::time::Duration;
 
-/// Upload time per repaint while loading (keeps the progress bar alive).
-pub(super) const UPLOAD_BUDGET: Duration = Duration::from_millis(12);
+/// Uploads per repaint while loading (the time keeps the progress bar alive).
+pub(super) const UPLOAD_BUDGET: Budget = Budget {
+    time: Duration::from_millis(12),
+    frames: usize::MAX,
+};
+
+/// Uploads per repaint while the trial streams: one repaint per video frame (timer pacing) must
+/// bring more than the two new frames a pair needs, and leave the repaint on time.
+pub(super) const PLAYBACK_BUDGET: Budget = Budget {
+    time: Duration::from_millis(6),
+    frames: 4,
+};
 
 /// Videos by stimulus id, and the prefetch of the next trial's.
 pub(super) struct VideoCache {
@@ -36,9 +48,11 @@ impl VideoCache {
         &self.manifest
     }
 
-    /// The decoded videos by stimulus id.
-    pub(super) fn videos(&self) -> &HashMap<String, Video> {
-        &self.videos
+    /// The decoded video `id`, else the one `loading` streams.
+    pub(super) fn video<'a>(&'a self, id: &str, loading: Option<&'a Loader>) -> Option<&'a Video> {
+        self.videos
+            .get(id)
+            .or_else(|| loading.and_then(|l| l.videos().iter().find(|v| v.source.id == id)))
     }
 
     /// Keep the videos a finished loader decoded.
@@ -49,15 +63,20 @@ impl VideoCache {
     }
 
     /// The loader of `trial`'s videos: the prefetch if it is that trial's, else a new one.
-    pub(super) fn loader_for_trial(&mut self, trial: &Trial) -> anyhow::Result<Loader> {
+    pub(super) fn loader_for_trial(
+        &mut self,
+        design: &Design,
+        trial: &Trial,
+    ) -> anyhow::Result<Loader> {
         match self.prefetch.take() {
             Some((key, loader)) if key == (trial.practice, trial.index) => Ok(loader),
-            _ => self.loader_for(trial),
+            _ => self.loader_for(design, trial),
         }
     }
 
-    /// Free the videos `trial` does not show and start loading those it needs.
-    fn loader_for(&mut self, trial: &Trial) -> anyhow::Result<Loader> {
+    /// Free the videos `trial` does not show and start loading those it needs, in the order
+    /// the trial shows their frames.
+    fn loader_for(&mut self, design: &Design, trial: &Trial) -> anyhow::Result<Loader> {
         let needed = trial.stimuli();
         self.videos.retain(|id, _| needed.contains(&id.as_str()));
         let mut missing: Vec<VideoSource> = Vec::new();
@@ -70,11 +89,15 @@ impl VideoCache {
                 )?);
             }
         }
-        Ok(Loader::start(missing))
+        let starts: Vec<f64> = missing
+            .iter()
+            .map(|v| stream::first_shown_s(design, trial, &v.id, v.frames(), v.fps))
+            .collect();
+        Ok(Loader::start(missing, &starts))
     }
 
     /// Start loading `next`'s videos unless a prefetch is already under way.
-    pub(super) fn start_prefetch(&mut self, next: Option<&Trial>) {
+    pub(super) fn start_prefetch(&mut self, design: &Design, next: Option<&Trial>) {
         if self.prefetch.is_some() {
             return;
         }
@@ -82,7 +105,7 @@ impl VideoCache {
             return;
         };
         // A failure here is reported when the trial itself starts.
-        if let Ok(loader) = self.loader_for(next) {
+        if let Ok(loader) = self.loader_for(design, next) {
             self.prefetch = Some(((next.practice, next.index), loader));
         }
     }

@@ -136,9 +136,16 @@ impl SessionApp {
         &self.session
     }
 
-    /// Whether a trial's frames are being loaded.
+    /// Whether a trial's frames are being loaded (before or during its presentation).
     pub fn loading(&self) -> bool {
         self.view.as_ref().is_some_and(|v| v.loader.is_some())
+    }
+
+    /// Whether the trial is presented while the rest of its frames load.
+    pub fn streaming(&self) -> bool {
+        self.view
+            .as_ref()
+            .is_some_and(|v| v.loader.is_some() && v.presentation.is_some())
     }
 
     /// Whether the current trial waits for the answer.

@@ -9,7 +9,6 @@ use crate::log::Side;
 use crate::presentation::Pairs;
 use crate::trials::Trial;
 use egui::{Align2, Color32, Painter, Rect, TextureHandle, pos2, vec2};
-use std::collections::HashMap;
 
 use super::loader::Video;
 
@@ -46,15 +45,16 @@ fn full_uv() -> Rect {
     Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0))
 }
 
-/// Draw the pair(s) of `trial` at video frame `frame`.
-pub fn draw_pairs(
+/// Draw the pair(s) of `trial` at video frame `frame`, videos found by stimulus id (a frame not
+/// loaded is not drawn).
+pub fn draw_pairs<'a>(
     painter: &Painter,
     screen: Screen,
     layout: &VideoLayout,
     trial: &Trial,
     pairs: Pairs,
     frame: u32,
-    videos: &HashMap<String, Video>,
+    videos: impl Fn(&str) -> Option<&'a Video>,
 ) {
     let shown: &[u8] = match pairs {
         Pairs::One(1) => &[1],
@@ -63,9 +63,8 @@ pub fn draw_pairs(
     };
     for &pair in shown {
         for side in [Side::Left, Side::Right] {
-            let Some(tex) = videos
-                .get(trial.video(pair, side))
-                .and_then(|v| v.textures.get(frame as usize))
+            let Some(tex) =
+                videos(trial.video(pair, side)).and_then(|v| v.textures.get(frame as usize))
             else {
                 continue;
             };

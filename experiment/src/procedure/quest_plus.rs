@@ -10,7 +10,7 @@
 //! values at the prior median x e^(sd z), z = -2 ... 2, weighted by the normal density of z.
 
 use super::interleave::{Interleaved, Track};
-use super::spec::QuestPlusSpec;
+use super::spec::{QuestGoal, QuestPlusSpec};
 use crate::design::Design;
 use crate::observer::{TARGET, p_correct};
 
@@ -36,6 +36,7 @@ pub struct QuestPlus {
     likelihood: Vec<Vec<f64>>,
     posterior: Vec<f64>,
     stop_width: Option<f64>,
+    goal: QuestGoal,
     next: usize,
     stopped: bool,
 }
@@ -76,6 +77,7 @@ impl QuestPlus {
             likelihood,
             posterior,
             stop_width: spec.stop_width,
+            goal: spec.goal,
             next: 0,
             stopped: false,
         };
@@ -87,7 +89,10 @@ impl QuestPlus {
     fn best_level(&self) -> usize {
         let mut best = (f64::INFINITY, 0);
         for (i, like) in self.likelihood.iter().enumerate() {
-            let h = expected_entropy(&self.posterior, like);
+            let h = match self.goal {
+                QuestGoal::Joint => expected_entropy(&self.posterior, like),
+                QuestGoal::Threshold => expected_marginal_entropy(&self.posterior, like, SLOPES),
+            };
             if h < best.0 {
                 best = (h, i);
             }
@@ -195,6 +200,21 @@ fn expected_entropy(prior: &[f64], like: &[f64]) -> f64 {
     xlnx(p1) + xlnx(p0) - s1 - s0
 }
 
+/// [`expected_entropy`] of the marginal over runs of `group` consecutive parameters (with
+/// [`SLOPES`], the threshold's): a_r summed over each run before its entropy is taken.
+fn expected_marginal_entropy(prior: &[f64], like: &[f64], group: usize) -> f64 {
+    let (mut p1, mut p0, mut s1, mut s0) = (0.0, 0.0, 0.0, 0.0);
+    for (q, l) in prior.chunks(group).zip(like.chunks(group)) {
+        let a1: f64 = q.iter().zip(l).map(|(q, l)| q * l).sum();
+        let a0 = q.iter().sum::<f64>() - a1;
+        p1 += a1;
+        p0 += a0;
+        s1 += xlnx(a1);
+        s0 += xlnx(a0);
+    }
+    xlnx(p1) + xlnx(p0) - s1 - s0
+}
+
 fn xlnx(x: f64) -> f64 {
     if x > 0.0 { x * x.ln() } else { 0.0 }
 }
@@ -243,6 +263,29 @@ mod tests {
         assert!(expected_entropy(&[0.5, 0.5], &[1.0, 0.0]).abs() < 1e-15);
         // A level that separates them only partly leaves some.
         assert!(expected_entropy(&[0.5, 0.5], &[0.9, 0.6]) > 0.0);
+    }
+
+    /// The threshold's marginal: a nuisance the answer does not depend on drops out (the
+    /// marginal's own expected entropy), and telling only nuisance values apart teaches nothing.
+    #[test]
+    fn marginal_expected_entropy_ignores_the_nuisance() {
+        // Two thresholds (0.4, 0.6) x two slopes (0.25, 0.75), independent a priori; p(correct)
+        // depends on the threshold only.
+        let joint = [0.1, 0.3, 0.15, 0.45];
+        let like = [0.9, 0.9, 0.3, 0.3];
+        let marginal = expected_marginal_entropy(&joint, &like, 2);
+        let direct = expected_entropy(&[0.4, 0.6], &[0.9, 0.3]);
+        assert_eq!(
+            expected_marginal_entropy(&joint, &like, 1),
+            expected_entropy(&joint, &like)
+        );
+        assert!((marginal - direct).abs() < 1e-15, "{marginal} {direct}");
+        // p(correct) depends on the slope only: the threshold's entropy stays the prior's.
+        let h = expected_marginal_entropy(&joint, &[1.0, 0.0, 1.0, 0.0], 2);
+        assert!((h - entropy(&[0.4, 0.6])).abs() < 1e-12, "{h}");
+        // The joint goal values that level: it settles the slope.
+        let joint_h = expected_entropy(&joint, &[1.0, 0.0, 1.0, 0.0]);
+        assert!(joint_h < entropy(&joint) - 0.5, "{joint_h}");
     }
 
     /// A simulated observer with the model's own function: the posterior mean lands within

@@ -88,6 +88,28 @@ pub struct QuestPlusSpec {
     pub lapse: f64,
     /// Log-normal prior of the slope (per ln spp).
     pub slope: SlopePrior,
+    /// What the placement of trials aims to learn.
+    #[serde(skip_serializing_if = "QuestGoal::is_joint")]
+    pub goal: QuestGoal,
+}
+
+/// The posterior whose expected entropy QUEST+ minimises when it places a trial (Watson 2017
+/// lets the entropy be taken over any marginal: the parameters of interest, the others
+/// nuisance).
+#[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum QuestGoal {
+    /// Threshold and slope together (the paper's default).
+    #[default]
+    Joint,
+    /// The threshold's marginal only: the slope is a nuisance.
+    Threshold,
+}
+
+impl QuestGoal {
+    fn is_joint(&self) -> bool {
+        *self == QuestGoal::Joint
+    }
 }
 
 impl Default for QuestPlusSpec {
@@ -97,6 +119,7 @@ impl Default for QuestPlusSpec {
             stop_width: None,
             lapse: 0.02,
             slope: SlopePrior::default(),
+            goal: QuestGoal::Joint,
         }
     }
 }

@@ -3,15 +3,19 @@
 
 use super::{FEEDBACK_SECONDS, Pacing, SessionApp};
 use crate::app::loader::{LoadState, Loader};
-use crate::app::prefetch::UPLOAD_BUDGET;
+use crate::app::prefetch::{PLAYBACK_BUDGET, UPLOAD_BUDGET};
 use crate::app::screens;
 use crate::app::video_painter::{self, Screen};
 use crate::layout::VideoLayout;
+use crate::log::Side;
 use crate::presentation::{Presentation, View};
 use crate::session::Stage;
 use crate::trials::Trial;
 use egui::RichText;
 use std::time::{Duration, Instant};
+
+/// Repaint interval while frames stream in during the fixation and the gap, seconds.
+const STREAM_REPAINT_S: f64 = 0.010;
 
 /// The trial being shown: loading, then its presentation.
 pub(super) struct TrialView {
@@ -38,55 +42,40 @@ impl SessionApp {
                 }
             }
         }
-        let Some(view) = self.view.as_mut() else {
+        if !self.pump_trial(ui) {
             return;
-        };
-        if let Some(loader) = view.loader.as_mut() {
-            match loader.pump(&ctx, UPLOAD_BUDGET) {
-                LoadState::Loading { fraction } => {
-                    screens::progress(ui, "Loading the next videos...", fraction);
-                    ctx.request_repaint();
-                    return;
-                }
-                LoadState::Failed(e) => {
-                    self.fatal = Some(format!("cannot load a video: {e}"));
-                    return;
-                }
-                LoadState::Done => {
-                    view.preload_ms = view.began.elapsed().as_secs_f64() * 1000.0;
-                    let loader = view.loader.take().expect("loader present");
-                    self.cache.insert(loader);
-                }
-            }
         }
+        let view = self.view.as_ref().expect("view present");
+        let ready = self.ready(&view.trial, view.loader.as_ref());
         let view = self.view.as_mut().expect("view present");
-        if view.presentation.is_none() {
-            let r = &self.cache.videos()[&view.trial.reference_stimulus].source;
-            view.presentation = Some(Presentation::new(self.session.design(), r.frames(), r.fps));
-        }
+        let loading = view.loader.as_ref();
         let t = now - self.origin.unwrap_or(now);
         let presentation = view.presentation.as_mut().expect("presentation present");
-        let shown = presentation.tick(t);
+        let shown = presentation.tick_ready(t, ready);
         let next_change = presentation.next_change(t);
         let screen = Screen::of(&ctx);
         match shown {
-            View::Fixation => {
-                screens::fixation(ui);
+            View::Fixation | View::Gap => {
+                if shown == View::Fixation {
+                    screens::fixation(ui);
+                }
                 let textures = view
                     .trial
                     .stimuli()
                     .into_iter()
-                    .filter_map(|id| self.cache.videos().get(id))
+                    .filter_map(|id| self.cache.video(id, loading))
                     .flat_map(|v| v.textures.iter());
                 video_painter::warm_up(ui.painter(), screen, textures, self.background);
             }
             View::Play { pairs, frame } => {
                 let d = &self.session.design().file;
-                let r = &self.cache.videos()[&view.trial.reference_stimulus].source;
+                let Some(r) = self.cache.video(&view.trial.reference_stimulus, loading) else {
+                    return;
+                };
                 match VideoLayout::new(
                     d.layout,
                     (screen.width, screen.height),
-                    (r.width, r.height),
+                    (r.source.width, r.source.height),
                     d.playback.spacing_px,
                 ) {
                     Ok(layout) => video_painter::draw_pairs(
@@ -96,22 +85,82 @@ impl SessionApp {
                         &view.trial,
                         pairs,
                         frame,
-                        self.cache.videos(),
+                        |id| self.cache.video(id, loading),
                     ),
                     Err(e) => self.fatal = Some(format!("{e:#}")),
                 }
             }
-            View::Gap => {}
             View::Respond => {
                 self.respond(ui, now);
                 return;
             }
         }
+        let streaming = loading.is_some();
         match (self.pacing, next_change) {
             (Pacing::Vsync, _) => ctx.request_repaint(),
+            // Uploads go on between frames while the trial streams (not during playback: a
+            // repaint there redraws the pair).
+            (Pacing::Timer, Some(s)) if streaming && !matches!(shown, View::Play { .. }) => {
+                ctx.request_repaint_after(Duration::from_secs_f64(s.min(STREAM_REPAINT_S)))
+            }
             (Pacing::Timer, Some(s)) => ctx.request_repaint_after(Duration::from_secs_f64(s)),
             (Pacing::Timer, None) => {}
         }
+    }
+
+    /// Upload the current trial's frames; `false` while the trial must wait for them (the
+    /// progress screen is up) or failed. The presentation starts once every frame is in, or
+    /// earlier once the rest will load before it is due ([`crate::stream`]).
+    fn pump_trial(&mut self, ui: &mut egui::Ui) -> bool {
+        let ctx = ui.ctx().clone();
+        let Some(view) = self.view.as_mut() else {
+            return false;
+        };
+        let Some(loader) = view.loader.as_mut() else {
+            return true;
+        };
+        let streaming = view.presentation.is_some();
+        let budget = if streaming {
+            PLAYBACK_BUDGET
+        } else {
+            UPLOAD_BUDGET
+        };
+        let done = match loader.pump(&ctx, budget) {
+            LoadState::Failed(e) => {
+                self.fatal = Some(format!("cannot load a video: {e}"));
+                return false;
+            }
+            LoadState::Loading { fraction } => {
+                if !streaming && !loader.can_start() {
+                    screens::progress(ui, "Loading the next videos...", fraction);
+                    ctx.request_repaint();
+                    return false;
+                }
+                false
+            }
+            LoadState::Done => true,
+        };
+        if view.presentation.is_none() {
+            view.preload_ms = view.began.elapsed().as_secs_f64() * 1000.0;
+            let r = self
+                .cache
+                .video(&view.trial.reference_stimulus, view.loader.as_ref());
+            let (frames, fps) = r.map_or((1, 30.0), |r| (r.source.frames(), r.source.fps));
+            view.presentation = Some(Presentation::new(self.session.design(), frames, fps));
+        }
+        if done {
+            let loader = view.loader.take().expect("loader present");
+            self.cache.insert(loader);
+        }
+        true
+    }
+
+    /// Frames of both videos of each pair loaded (all of a video not loading).
+    fn ready(&self, trial: &Trial, loading: Option<&Loader>) -> [u32; 2] {
+        let loaded = |id: &str| loading.and_then(|l| l.loaded(id)).unwrap_or(u32::MAX);
+        [1, 2].map(|pair| {
+            loaded(trial.video(pair, Side::Left)).min(loaded(trial.video(pair, Side::Right)))
+        })
     }
 
     /// Set up a trial's view, taking over the prefetch of its videos if there is one.
@@ -122,7 +171,7 @@ impl SessionApp {
             .trial()
             .ok_or_else(|| anyhow::anyhow!("no trial at stage {stage:?}"))?
             .clone();
-        let loader = self.cache.loader_for_trial(&trial)?;
+        let loader = self.cache.loader_for_trial(self.session.design(), &trial)?;
         Ok(TrialView {
             stage,
             trial,
@@ -137,8 +186,9 @@ impl SessionApp {
     /// Once a presentation is over, load the next trial's videos while the subject answers
     /// (never during playback, where decoding would compete with frame pacing).
     fn start_prefetch(&mut self) {
+        let next = self.session.next_trial();
         self.cache
-            .start_prefetch(self.session.next_trial().as_ref());
+            .start_prefetch(self.session.design(), next.as_ref());
     }
 
     /// Upload prefetched frames a few at a time while nothing moves on screen.
