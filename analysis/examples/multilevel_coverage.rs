@@ -12,7 +12,14 @@
 //! poisson-stratified (no difference: its power) are compared in one model each.
 //!
 //! `cargo run -p analysis --example multilevel_coverage -- <replications> <spreads, e.g.
-//! 0.3,0.9> [subjects]`
+//! 0.3,0.9> [subjects] [coverage|tost] [first replication]`
+//!
+//! Replications run from the first index (0) on, so a long run can be split into chunks
+//! (`100 0.9 12 coverage 500` is replications 500-599) whose rates add up weighted by count.
+//!
+//! With `tost` only the TOST's size and power are measured (no condition fits, no pooled
+//! bootstraps): at the subject counts where the TOST has power (48, 96, ...) the coverage part
+//! would cost most of the time and is not what is asked there.
 
 use analysis::bootstrap::Bound;
 use analysis::data::{Curve, Dataset, Grouping};
@@ -61,12 +68,16 @@ fn ln_interval(lo: &Option<Bound>, hi: &Option<Bound>) -> (f64, f64) {
     (end(lo, f64::INFINITY), end(hi, f64::NEG_INFINITY))
 }
 
-fn one(design: &Design, obs: &Observer, subjects: usize, r: u64) -> Outcome {
+fn one(design: &Design, obs: &Observer, subjects: usize, r: u64, coverage: bool) -> Outcome {
     let mut analysis = Settings::default();
     analysis.bootstrap.resamples = 39;
     let s = ReplicationSettings {
         analysis,
-        groupings: vec![Grouping::Condition],
+        groupings: if coverage {
+            vec![Grouping::Condition]
+        } else {
+            Vec::new()
+        },
     };
     let (rep, ds) = replicate(design, obs, subjects, r, &s).expect("a replication");
     let ml = MultilevelSettings {
@@ -80,11 +91,13 @@ fn one(design: &Design, obs: &Observer, subjects: usize, r: u64) -> Outcome {
         settings: &ml,
     };
     let mut out = Outcome::default();
+    let cells = if coverage { 2 } else { 0 };
     for (i, (label, truth)) in [
         ("plane/poisson/truncated_box", 40f64),
         ("spheres/stratified/truncated_box", 100.0),
     ]
     .into_iter()
+    .take(cells)
     .enumerate()
     {
         let g = ds.groups.iter().find(|g| g.key.label == label).unwrap();
@@ -131,7 +144,13 @@ fn main() {
         .map(|s| s.parse().unwrap())
         .collect();
     let subjects: usize = args.get(3).map_or(12, |a| a.parse().unwrap());
+    let coverage = args.get(4).is_none_or(|a| a != "tost");
+    let first: u64 = args.get(5).map_or(0, |a| a.parse().unwrap());
+    let runs = first..first + reps;
     let design = Design::load(Path::new("scenes/designs/thesis.json")).expect("the thesis design");
+    if !coverage {
+        return tost_only(&design, runs, &spreads, subjects);
+    }
     println!(
         "| spread | replications | condition | multilevel coverage | pooled coverage | mean ln JND error | ratio | TOST at margin (size) | TOST at 0 (power) | CPU s |"
     );
@@ -139,9 +158,10 @@ fn main() {
     for spread in spreads {
         let obs = observer(spread);
         let t0 = cpu_seconds();
-        let outs: Vec<Outcome> = (0..reps)
+        let outs: Vec<Outcome> = runs
+            .clone()
             .into_par_iter()
-            .map(|r| one(&design, &obs, subjects, r))
+            .map(|r| one(&design, &obs, subjects, r, true))
             .collect();
         let cpu = cpu_seconds() - t0;
         let n = outs.len() as f64;
@@ -159,6 +179,34 @@ fn main() {
                 bias.exp()
             );
         }
+    }
+}
+
+/// The TOST's size at the margin and power at no difference, with their binomial SDs.
+fn tost_only(design: &Design, runs: std::ops::Range<u64>, spreads: &[f64], subjects: usize) {
+    let reps = runs.end - runs.start;
+    println!(
+        "| subjects | spread | replications | TOST at margin (size) | SD | TOST at 0 (power) | SD | CPU s |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for &spread in spreads {
+        let obs = observer(spread);
+        let t0 = cpu_seconds();
+        let outs: Vec<Outcome> = runs
+            .clone()
+            .into_par_iter()
+            .map(|r| one(design, &obs, subjects, r, false))
+            .collect();
+        let cpu = cpu_seconds() - t0;
+        let n = outs.len() as f64;
+        let rate = |f: fn(&Outcome) -> bool| outs.iter().filter(|o| f(o)).count() as f64 / n;
+        let sd = |p: f64| (p * (1.0 - p) / n).sqrt();
+        let (size, power) = (rate(|o| o.at_margin), rate(|o| o.at_zero));
+        println!(
+            "| {subjects} | {spread} | {reps} | {size:.3} | {:.4} | {power:.3} | {:.4} | {cpu:.0} |",
+            sd(size),
+            sd(power)
+        );
     }
 }
 

@@ -495,29 +495,18 @@ fn minimise(data: &Data, space: &Space, start: [f64; 3], step: f64) -> ([f64; 3]
 mod tests {
     use super::*;
     use crate::named::Named;
+    use crate::simulate::{THESIS_LEVELS as THESIS, expected_curve, thesis_plane_model};
 
     fn curve(levels: &[u32], correct: &[u32], n: u32) -> Curve {
         Curve::from_counts(levels.iter().zip(correct).map(|(&l, &k)| (l, k, n)))
     }
 
-    const THESIS: [u32; 8] = [1, 8, 27, 64, 125, 216, 343, 512];
-
     #[test]
     fn exact_logistic_data_recovers_parameters() {
         // Counts exactly n p(x) (n = 1e8 per level, p rounded to 1e-8): the MLE equals the
         // truth up to the rounding, i.e. ~1e-7 relative in p; alpha and beta to ~1e-4.
-        let truth = Model {
-            sigmoid: Sigmoid::Logistic,
-            alpha: 40f64.ln(),
-            beta: 1.5,
-            lapse: 0.0,
-            guess: GUESS,
-        };
-        let n = 100_000_000u32;
-        let c = Curve::from_counts(THESIS.iter().map(|&l| {
-            let k = (truth.p((l as f64).ln()) * n as f64).round() as u32;
-            (l, k, n)
-        }));
+        let truth = thesis_plane_model();
+        let c = expected_curve(&truth, &THESIS, 100_000_000);
         let f = fit(&c, &FitSettings::default());
         let m = f.model().expect("finite fit");
         assert!((m.alpha - truth.alpha).abs() < 1e-4, "{m:?}");

@@ -8,7 +8,7 @@
 //! the counter-based hash.
 
 use crate::data::{Curve, LevelCount, Observation};
-use crate::psychometric::Model;
+use crate::psychometric::{GUESS, Model};
 use crate::sigmoid::Sigmoid;
 use anyhow::Result;
 use experiment::log::LOG_FORMAT;
@@ -17,6 +17,30 @@ use renderer::condition::{PointSetKind, TimeFilter};
 use renderer::hash::{hash, name_id, unit_f64};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
+
+/// The thesis's levels (spp).
+pub const THESIS_LEVELS: [u32; 8] = [1, 8, 27, 64, 125, 216, 343, 512];
+
+/// The thesis's observer of the plane: logistic, threshold 40 spp at p = 0.75, slope 1.5 in
+/// 1 / ln spp, no lapse, guess 1/2 (with g = 1/2 the logistic's alpha is its 0.75 point).
+pub fn thesis_plane_model() -> Model {
+    Model {
+        sigmoid: Sigmoid::Logistic,
+        alpha: 40f64.ln(),
+        beta: 1.5,
+        lapse: 0.0,
+        guess: GUESS,
+    }
+}
+
+/// `trials` x p(level) correct at each level, rounded: data without sampling noise, whose fit
+/// must return `model` up to the rounding.
+pub fn expected_curve(model: &Model, levels: &[u32], trials: u32) -> Curve {
+    Curve::from_counts(levels.iter().map(|&l| {
+        let k = (model.p((l as f64).ln()) * trials as f64).round() as u32;
+        (l, k, trials)
+    }))
+}
 
 /// Draw `trials` responses at each level from `model`; `coords` key the random stream.
 pub fn simulate_curve(
@@ -78,7 +102,7 @@ impl StudySpec {
                 (PointSetKind::Stratified, 1.0),
             ],
             time_filter: TimeFilter::TruncatedBox,
-            levels: vec![1, 8, 27, 64, 125, 216, 343, 512],
+            levels: THESIS_LEVELS.to_vec(),
             repeats: 4,
             slope: 1.5,
             spread: 0.6,

@@ -161,3 +161,24 @@ fn the_population_interval_covers_the_truth_in_simulated_studies() {
     let sd = (errors.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (nf - 1.0)).sqrt();
     assert!(mean.abs() < 3.0 * sd / nf.sqrt(), "bias {mean} (sd {sd})");
 }
+
+/// `plan --equivalence` on the thesis design: one replication of 4 subjects gives a row per
+/// point-set pair (one time filter: no time-filter pairs) with its true difference, and a
+/// subject count the TOST cannot use (1 subject: 0 df) is refused by name.
+#[test]
+fn plan_equivalence_tabulates_every_point_set_pair_and_refuses_one_subject() {
+    use analysis::plan::equivalence::run;
+    use renderer::progress::NoProgress;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let design = experiment::Design::load(&root.join("scenes/designs/thesis.json")).unwrap();
+    let observer = experiment::Observer::load(&root.join("scenes/observers/thesis.json")).unwrap();
+    let rows = run(&design, &observer, &[4], 1, 0.2, &NoProgress).unwrap();
+    assert_eq!(rows.len(), 3, "{rows:?}");
+    for r in &rows {
+        assert_eq!((r.subjects, r.family), (4, Grouping::PointSet), "{r:?}");
+        assert!(r.true_difference.abs() < 1e-12, "{r:?}");
+        assert!((0.0..=1.0).contains(&r.equivalent), "{r:?}");
+    }
+    let e = run(&design, &observer, &[12, 1], 1, 0.2, &NoProgress).unwrap_err();
+    assert!(e.to_string().contains("--subjects) include 1;"), "{e}");
+}

@@ -275,10 +275,10 @@ mod tests {
     use super::*;
     use crate::psychometric::{GUESS, LapseMode, Model};
     use crate::sigmoid::Sigmoid;
-    use crate::simulate::simulate_curve;
+    use crate::simulate::{
+        THESIS_LEVELS as THESIS, expected_curve, simulate_curve, thesis_plane_model,
+    };
     use renderer::hash::{hash, unit_f64};
-
-    const THESIS: [u32; 8] = [1, 8, 27, 64, 125, 216, 343, 512];
 
     fn cx(settings: &MultilevelSettings) -> Context<'_> {
         static FIT: FitSettings = FitSettings {
@@ -318,17 +318,7 @@ mod tests {
         // Every subject has the same exact expected counts: the marginal likelihood is at most
         // (max_u L(u))^S, reached only as sigma -> 0 at the pooled optimum, so the model must
         // find sigma at its bound, the pooled threshold and the pooled likelihood.
-        let truth = Model {
-            sigmoid: Sigmoid::Logistic,
-            alpha: 40f64.ln(),
-            beta: 1.5,
-            lapse: 0.0,
-            guess: GUESS,
-        };
-        let one = Curve::from_counts(THESIS.iter().map(|&l| {
-            let p = truth.p((l as f64).ln());
-            (l, (1000.0 * p).round() as u32, 1000)
-        }));
+        let one = expected_curve(&thesis_plane_model(), &THESIS, 1000);
         let curves = vec![one.clone(); 6];
         let settings = MultilevelSettings::default();
         let (e, _) = estimate(&[&curves], false, &cx(&settings), None).unwrap();

@@ -64,6 +64,11 @@ pub struct PlanArgs {
     /// subjects needed (`equivalence.json`, a section of plan.md).
     #[arg(long)]
     pub equivalence: Option<f64>,
+    /// Subject counts for the equivalence tests [default: --subjects]. The TOST needs far more
+    /// subjects than the pooled intervals (about 100 at margin 0.2 on the thesis design), and
+    /// these replications skip the pooled fits, so they can search higher counts cheaply.
+    #[arg(long, value_delimiter = ',')]
+    pub equivalence_subjects: Option<Vec<usize>>,
 }
 
 /// What the command produced.
@@ -127,7 +132,7 @@ pub fn run(args: &PlanArgs) -> Result<Outcome> {
             let rows = super::equivalence::run(
                 &design,
                 &observer,
-                &args.subjects,
+                args.equivalence_subjects.as_ref().unwrap_or(&args.subjects),
                 args.replications,
                 m,
                 &bar,

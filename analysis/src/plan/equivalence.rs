@@ -46,6 +46,13 @@ pub fn run(
     if !(margin > 0.0 && margin < 5.0) {
         bail!("--equivalence is {margin}; expected a margin in ln JND in (0, 5), e.g. 0.2");
     }
+    if let Some(n) = subjects.iter().find(|&&n| n < 2) {
+        bail!(
+            "the equivalence tests' subject counts (--equivalence-subjects, else --subjects) \
+             include {n}; expected at least 2 subjects per study (the TOST's t has subjects - 1 \
+             degrees of freedom)"
+        );
+    }
     observer.check_covers(design)?;
     let s = ReplicationSettings {
         analysis: Settings::default(),
@@ -195,7 +202,8 @@ pub fn markdown(rows: &[EquivalenceRow], margin: f64, probability: f64) -> Strin
             ),
             None => format!(
                 "Equivalence: none of the subject counts tried shows every pair inside the margin \
-                 equivalent with probability >= {probability}; try more subjects or repeats."
+                 equivalent with probability >= {probability}; try more subjects \
+                 (`--equivalence-subjects`) or repeats."
             ),
         }
     );
