@@ -35,10 +35,12 @@ pub struct DemoArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Number of simulated subjects (the thesis had 12).
-    #[arg(long, default_value_t = 12)]
+    #[arg(long, default_value_t = 12, value_parser = renderer::limits::parse_subjects,
+          allow_hyphen_values = true)]
     pub subjects: usize,
     /// Parametric bootstrap resamples per pooled fit.
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = 2000, value_parser = renderer::limits::resamples(1000),
+          allow_hyphen_values = true)]
     pub bootstrap: usize,
     /// Hide progress bars.
     #[arg(long)]

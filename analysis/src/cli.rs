@@ -30,11 +30,16 @@ pub struct AnalyzeArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Proportion correct defining the JND, in (guess rate, 0.9].
-    #[arg(long, default_value_t = 0.75, conflicts_with = "preset")]
+    #[arg(
+        long,
+        default_value_t = 0.75,
+        conflicts_with = "preset",
+        allow_negative_numbers = true
+    )]
     pub target: f64,
     /// Guess rate: the lower asymptote, 1/m for m alternatives. Default: the task of --design,
     /// else 0.5 for session logs (the two-pair task); counts tables need --guess or --design.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub guess: Option<f64>,
     /// The study's design file: its task gives the guess rate and its factor order the pair
     /// order of the t-tests; its hash must match the logs'.
@@ -47,7 +52,8 @@ pub struct AnalyzeArgs {
     #[arg(long, value_parser = named::<LapseMode>(), default_value = "fixed")]
     pub lapse: LapseMode,
     /// Parametric bootstrap resamples per pooled fit (at least 1000 for a reported interval).
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = 2000, value_parser = renderer::limits::resamples(1000),
+          allow_hyphen_values = true)]
     pub bootstrap: usize,
     /// Master seed of the bootstrap.
     #[arg(long, default_value_t = 1)]
@@ -57,7 +63,9 @@ pub struct AnalyzeArgs {
         long,
         value_delimiter = ',',
         default_value = "27,64,125",
-        conflicts_with = "preset"
+        conflicts_with = "preset",
+        value_parser = renderer::limits::parse_spp,
+        allow_hyphen_values = true
     )]
     pub levels: Vec<u32>,
     /// Extra levels for the between-scene tests (the thesis's Table 1 added 216).
@@ -65,14 +73,21 @@ pub struct AnalyzeArgs {
         long,
         value_delimiter = ',',
         default_value = "216",
-        conflicts_with = "preset"
+        conflicts_with = "preset",
+        value_parser = renderer::limits::parse_spp,
+        allow_hyphen_values = true
     )]
     pub scene_levels: Vec<u32>,
     /// Which t-test.
     #[arg(long, value_parser = named::<TestKind>(), default_value = "paired", conflicts_with = "preset")]
     pub test: TestKind,
     /// Significance level.
-    #[arg(long, default_value_t = 0.05, conflicts_with = "preset")]
+    #[arg(
+        long,
+        default_value_t = 0.05,
+        conflicts_with = "preset",
+        allow_negative_numbers = true
+    )]
     pub alpha: f64,
     /// Unit of observation of the t-tests: one value per subject (pooled over the other
     /// factors), or per subject x other-factor cell as the thesis did (cells of one subject are
@@ -97,11 +112,12 @@ pub struct AnalyzeArgs {
     /// Equivalence margin in ln JND (0.2: a ratio within 0.82-1.22): two one-sided tests for
     /// every point-set and time-filter pair from the multilevel model (implies --model
     /// multilevel).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub equivalence: Option<f64>,
     /// Subject-bootstrap resamples of the multilevel model (whole subjects resampled and the
     /// model refitted; 0: none; at least 200).
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, value_parser = renderer::limits::resamples(0),
+          allow_hyphen_values = true)]
     pub subject_bootstrap: usize,
 }
 

@@ -5,7 +5,7 @@
 
 use crate::bootstrap::BootstrapSettings;
 use crate::comparisons::{ComparisonSettings, PairOrder, Unit};
-use crate::data::{Dataset, Source};
+use crate::data::{Dataset, Grouping, Source};
 use crate::multilevel::MultilevelSettings;
 use crate::psychometric::{FitSettings, GUESS, LapseMode};
 use crate::report::{Preset, Report, Settings, analyze};
@@ -13,6 +13,7 @@ use crate::sigmoid::Sigmoid;
 use crate::ttest::TestKind;
 use anyhow::{Result, bail};
 use experiment::Design;
+use renderer::limits::MAX_RESAMPLES;
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -142,16 +143,57 @@ impl AnalyzeOptions {
         Ok(s)
     }
 
-    /// `--exclude` as (subject, reason) pairs.
+    /// `--exclude` as (subject, reason) pairs, one per subject: a subject listed twice keeps
+    /// every reason given (`s01,s01=tired` is s01 for "tired", not for no reason).
     pub fn exclusions(&self) -> Vec<(String, Option<String>)> {
-        self.exclude
-            .iter()
-            .map(|e| match e.split_once('=') {
-                Some((id, reason)) => (id.trim().to_string(), Some(reason.trim().to_string())),
-                None => (e.trim().to_string(), None),
-            })
-            .filter(|(id, _)| !id.is_empty())
-            .collect()
+        let mut out: Vec<(String, Option<String>)> = Vec::new();
+        for e in &self.exclude {
+            let (id, reason) = match e.split_once('=') {
+                Some((id, r)) => (id.trim(), Some(r.trim()).filter(|r| !r.is_empty())),
+                None => (e.trim(), None),
+            };
+            if id.is_empty() {
+                continue;
+            }
+            match out.iter_mut().find(|(i, _)| i == id) {
+                None => out.push((id.to_string(), reason.map(str::to_string))),
+                Some((_, known)) => {
+                    if let Some(r) = reason
+                        && known.as_deref() != Some(r)
+                    {
+                        *known = Some(match known.take() {
+                            Some(k) => format!("{k}; {r}"),
+                            None => r.to_string(),
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// What the options leave unchecked, for the report's warnings: logs analysed without a design
+    /// (a trial of an unknown scene or level becomes a group of its own), and a `--guess` that
+    /// differs from the design's task (a two-pair guess rate on a four-alternative design).
+    pub fn unchecked(&self, ds: &Dataset, design: Option<&Design>) -> Vec<String> {
+        let mut out = Vec::new();
+        match (design, self.guess) {
+            (None, _) if ds.source == Source::SessionLogs => out.push(
+                "no --design: the trials' scenes, point sets, time filters and levels were not \
+                 checked against any design (a trial of an unknown scene becomes a group of its \
+                 own); give --design to check them"
+                    .to_string(),
+            ),
+            (Some(d), Some(g)) if (g - d.file.task.guess_rate()).abs() > 1e-9 => out.push(format!(
+                "--guess {g} differs from the guess rate {} of --design {}'s task; the fits use \
+                 --guess {g}",
+                d.file.task.guess_rate(),
+                d.path.display()
+            )),
+            _ => {}
+        }
+        out.extend(missing_scenes(ds));
+        out
     }
 
     fn settings_with_guess(&self, guess: f64) -> Result<Settings> {
@@ -180,9 +222,10 @@ impl AnalyzeOptions {
         if !(alpha > 0.0 && alpha < 1.0) {
             bail!("--alpha is {alpha}; expected a level in (0, 1)");
         }
-        if self.bootstrap < 1000 {
+        if !(1000..=MAX_RESAMPLES).contains(&self.bootstrap) {
             bail!(
-                "--bootstrap is {}; expected at least 1000 resamples for a 95% interval",
+                "--bootstrap is {}; expected at least 1000 resamples for a 95% interval (and at \
+                 most {MAX_RESAMPLES})",
                 self.bootstrap
             );
         }
@@ -231,9 +274,9 @@ impl AnalyzeOptions {
                  ratio within 0.82-1.22"
             );
         }
-        if self.subject_bootstrap != 0 && self.subject_bootstrap < 200 {
+        if self.subject_bootstrap != 0 && !(200..=MAX_RESAMPLES).contains(&self.subject_bootstrap) {
             bail!(
-                "--subject-bootstrap is {}; expected 0 (none) or at least 200 resamples",
+                "--subject-bootstrap is {}; expected 0 (none) or 200 to {MAX_RESAMPLES} resamples",
                 self.subject_bootstrap
             );
         }
@@ -275,6 +318,7 @@ pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
         check_design(d, &ds)?;
     }
     ds.exclude(&args.exclusions())?;
+    ds.warnings.extend(args.unchecked(&ds, design.as_ref()));
     let settings = args.settings_for(&ds, design.as_ref())?;
     let report = analyze(&ds, &settings);
     crate::output::write(&report, &args.out)?;
@@ -282,6 +326,24 @@ pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
         crate::adaptive::write(d, &ds.files, &report, &args.out)?;
     }
     Ok(report)
+}
+
+/// A subject with no trial of a whole scene: the tests that pair scenes leave them out, so
+/// their degrees of freedom (the thesis's Table 1's df) fall without the data saying why.
+fn missing_scenes(ds: &Dataset) -> Vec<String> {
+    let mut out = Vec::new();
+    for g in ds.groups_of(Grouping::Scene) {
+        for (subject, curve) in ds.subjects.iter().zip(&g.per_subject) {
+            if curve.total_trials() == 0 {
+                out.push(format!(
+                    "subject {subject:?} has no trial of scene {:?}: the scene tests leave \
+                     {subject:?} out, which lowers their degrees of freedom (Table 1's df)",
+                    g.key.label
+                ));
+            }
+        }
+    }
+    out
 }
 
 /// Session logs must come from `design` (same hash); counts tables carry no hash.
@@ -300,4 +362,50 @@ fn check_design(design: &Design, ds: &Dataset) -> Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_subject_excluded_twice_keeps_its_reasons() {
+        let with = |list: &[&str]| AnalyzeOptions {
+            exclude: list.iter().map(|s| s.to_string()).collect(),
+            ..AnalyzeOptions::new(Vec::new(), PathBuf::new())
+        };
+        let tired = Some("tired".to_string());
+        let e = with(&["s01", "s01=tired"]).exclusions();
+        assert_eq!(e, vec![("s01".to_string(), tired.clone())]);
+        let e = with(&["s01=tired", "s02", "s01", "s01=tired"]).exclusions();
+        assert_eq!(e[0], ("s01".to_string(), tired));
+        assert_eq!(e[1], ("s02".to_string(), None));
+        let e = with(&["s01=tired", "s01=left early"]).exclusions();
+        assert_eq!(e[0].1.as_deref(), Some("tired; left early"));
+    }
+
+    #[test]
+    fn a_subject_without_a_whole_scene_is_warned_about() {
+        use crate::data::Observation;
+        let obs = |subject: &str, scene: &str| Observation {
+            subject: subject.into(),
+            scene: scene.into(),
+            point_set: "sobol".into(),
+            time_filter: "box".into(),
+            level: 8,
+            correct: true,
+        };
+        let all = [
+            obs("s01", "plane"),
+            obs("s01", "spheres"),
+            obs("s02", "plane"),
+        ];
+        let w = missing_scenes(&Dataset::from_observations(&all));
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains("\"s02\" has no trial of scene \"spheres\""),
+            "{w:?}"
+        );
+        assert!(missing_scenes(&Dataset::from_observations(&all[..2])).is_empty());
+    }
 }

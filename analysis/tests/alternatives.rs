@@ -244,6 +244,13 @@ fn a_counts_table_takes_its_guess_rate_from_the_design_task() {
         third.settings_for(&ds, Some(&design)).unwrap().fit.guess,
         1.0 / 3.0
     );
+    // ... with a warning, since it is not the task's (issue 29); the design's own is silent.
+    let w = third.unchecked(&ds, Some(&design));
+    assert!(
+        w.len() == 1 && w[0].contains("differs from the guess rate 0.25"),
+        "{w:?}"
+    );
+    assert!(args.unchecked(&ds, Some(&design)).is_empty());
     // Without either, a counts table is refused: its task is unknown.
     let bare = AnalyzeOptions::new(vec![table.clone()], dir.path().join("out2"));
     let e = analysis::options::run_report(&bare)

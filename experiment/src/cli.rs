@@ -44,7 +44,8 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub observer: PathBuf,
     /// Number of subjects (named s01, s02, ...).
-    #[arg(long, default_value_t = 12)]
+    #[arg(long, default_value_t = 12, value_parser = renderer::limits::parse_subjects,
+          allow_hyphen_values = true)]
     pub subjects: usize,
     /// Folder of session logs [default: results/<design name>/sessions]; simulated logs of the
     /// same subject names are replaced.

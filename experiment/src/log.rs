@@ -183,6 +183,7 @@ pub struct TornHeader {
 /// except inside a torn last line (a crash can cut a character in two), which is read lossily
 /// and then dropped by [`parse_log`] like any torn last line.
 fn utf8_text(path: &Path, bytes: Vec<u8>) -> Result<String> {
+    let bytes = renderer::utf8::without_bom(bytes);
     let torn_at = match std::str::from_utf8(&bytes) {
         Ok(_) => None,
         Err(e) => Some(e.valid_up_to()),
@@ -277,7 +278,11 @@ pub(crate) fn parse_log(path: &Path, text: &str) -> Result<SessionLog> {
                 "{}:{lineno}: ignoring an incomplete last line (the session was interrupted while writing it): {e}",
                 path.display()
             )),
-            Err(e) => bail!("{}:{lineno}: not a valid log line: {e}", path.display()),
+            Err(e) => bail!(
+                "{}:{lineno}: not a valid log line: {}",
+                path.display(),
+                renderer::quote::clip_quoted(&e.to_string())
+            ),
         }
     }
     let Some(header) = header else {

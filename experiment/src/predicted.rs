@@ -152,8 +152,9 @@ impl PredictedTable {
         let first = text.lines().next().unwrap_or("");
         if first.trim() != format_line() {
             bail!(
-                "{}: line 1 is {first:?}; a prediction file starts with {:?}",
+                "{}: line 1 is {:?}; a prediction file starts with {:?}",
                 path.display(),
+                renderer::quote::short(first),
                 format_line()
             );
         }

@@ -198,23 +198,39 @@ fn check_stimulus(
             say(m);
         }
     }
+    let (frame_problems, frames, bytes) = stimulus_problems(s, folder, opts, progress);
+    for m in frame_problems {
+        say(m);
+    }
+    (problems, frames, bytes)
+}
+
+/// What is wrong with one manifest entry whatever the design: its frame count against its
+/// frame list, its rate, and its frames (missing, of another size, or, with `check_hashes`,
+/// not the content hash the manifest records), with the frames checked and bytes hashed.
+/// `folder` holds the manifest. `blurlab predict` checks its stimuli with it too.
+pub fn stimulus_problems(
+    s: &Stimulus,
+    folder: &Path,
+    opts: PreflightOptions,
+    progress: &dyn Progress,
+) -> (Vec<String>, u64, u64) {
+    let mut problems = Vec::new();
     if s.frames == 0 || s.frame_paths.len() != s.frames as usize {
-        say(format!(
+        problems.push(format!(
             "the manifest says {} frames but lists {} frame files",
             s.frames,
             s.frame_paths.len()
         ));
     }
     if !(s.fps.is_finite() && s.fps > 0.0) {
-        say(format!(
+        problems.push(format!(
             "field `fps` is {}; expected a positive rate",
             s.fps
         ));
     }
     let (frame_problems, frames, bytes) = check_frames(s, folder, opts, progress);
-    for m in frame_problems {
-        say(m);
-    }
+    problems.extend(frame_problems);
     (problems, frames, bytes)
 }
 

@@ -23,6 +23,8 @@ pub fn simulate(
     subjects: usize,
     out_dir: &Path,
 ) -> Result<Vec<PathBuf>> {
+    let most = renderer::limits::MAX_SUBJECTS as u64;
+    renderer::limits::check_count("the number of subjects", subjects as u64, 1, most)?;
     observer.check_covers(design)?;
     std::fs::create_dir_all(out_dir)
         .with_context(|| format!("cannot create folder {}", out_dir.display()))?;

@@ -100,12 +100,20 @@ pub fn text(doc: &Document, path: &Path) -> Result<String> {
 /// `input`'s folder to `output`'s.
 pub fn convert(input: &Path, output: &Path) -> Result<Document> {
     let mut doc = read(input)?;
-    let from = input.parent().unwrap_or(Path::new(""));
-    let to = output.parent().unwrap_or(Path::new(""));
-    rebase_paths(&mut doc, from, to)?;
+    rebase_paths(&mut doc, folder(input), folder(output))?;
     let text = text(&doc, output)?;
     crate::atomic::write_atomic(output, text.as_bytes())?;
     Ok(doc)
+}
+
+/// The folder holding `file`: `.` for a bare file name, whose parent is the empty path (which
+/// `std::path::absolute` refuses: `convert plane.scene out/plane.json` used to write
+/// `../../../../plane.scene`-like paths, and the README's example absolute ones).
+fn folder(file: &Path) -> &Path {
+    match file.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
 }
 
 /// Rewrite the relative paths a document holds so that, read from `to`, they name the files
@@ -185,6 +193,39 @@ pub fn json<T: Serialize>(value: &T) -> Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn paths_are_rebased_relative_from_a_bare_file_name() {
+        let demo = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/jobs/demo.json");
+        let job = |scenes: &[&str]| {
+            let Ok(Document::Job(mut j)) = read(Path::new(demo)) else {
+                panic!("{demo} is a job")
+            };
+            j.scenes = scenes.iter().map(|s| s.to_string()).collect();
+            Document::Job(j)
+        };
+        let cases = [
+            ("plane.job", "out/sub/plane.json", "../../plane.scene"),
+            ("scenes/jobs/t.json", "t.job", "scenes/thesis/plane.scene"),
+            ("a/t.job", "b/t.json", "../a/plane.scene"),
+        ];
+        for (input, output, want) in cases {
+            let scene = if input.starts_with("scenes") {
+                "../thesis/plane.scene"
+            } else {
+                "plane.scene"
+            };
+            let mut doc = job(&[scene, "/abs/x.scene"]);
+            rebase_paths(
+                &mut doc,
+                folder(Path::new(input)),
+                folder(Path::new(output)),
+            )
+            .unwrap();
+            let Document::Job(j) = doc else { panic!() };
+            assert_eq!(j.scenes, [want, "/abs/x.scene"], "{input} -> {output}");
+        }
+    }
 
     #[test]
     fn scalar_arrays_go_on_one_line_and_parse_back() {

@@ -15,17 +15,14 @@ pub fn from_str<T: DeserializeOwned>(text: &str, path: &Path, what: &str) -> Res
     let de = &mut serde_json::Deserializer::from_str(text);
     let value = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let field = e.path().to_string();
+        let said = crate::quote::clip_quoted(&e.inner().to_string());
         if field == "." || field.is_empty() {
-            anyhow!(
-                "{}: {}; expected {article} {what}",
-                path.display(),
-                e.inner()
-            )
+            anyhow!("{}: {said}; expected {article} {what}", path.display())
         } else {
+            let field = crate::quote::short(&field);
             anyhow!(
-                "{}: field `{field}`: {}; expected {article} {what}",
-                path.display(),
-                e.inner()
+                "{}: field `{field}`: {said}; expected {article} {what}",
+                path.display()
             )
         }
     })?;

@@ -18,6 +18,7 @@ pub mod limits;
 pub mod manifest;
 pub mod paths;
 pub mod progress;
+pub mod quote;
 pub mod utf8;
 
 #[cfg(feature = "plot")]

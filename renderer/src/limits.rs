@@ -28,6 +28,22 @@ pub const MAX_MAP_SIDE: u32 = 32768;
 /// Most pixels of an image the suite reads: 2^28 texels (16384 x 16384), 3 GB as RGB f32.
 pub const MAX_MAP_TEXELS: usize = 1 << 28;
 
+/// Most subjects of one study, simulated (`simulate --subjects`, the demo) or planned (each of
+/// `plan --subjects`): psychophysical studies have tens; a thousand simulated subjects of a
+/// 100 000-trial design is already 10^8 trials. `plan --subjects 1000000000` used to run until
+/// killed.
+pub const MAX_SUBJECTS: usize = 1000;
+
+/// Most simulated studies per subject count (`plan --replications`). The interval of a rate
+/// from 10 000 replications is +-0.01 at worst; every replication's outcome is held in memory
+/// until summarised, and `plan --replications 1000000000` grew by 0.3 GB/s until killed.
+pub const MAX_REPLICATIONS: u64 = 10_000;
+
+/// Most bootstrap resamples per fit (`analyze --bootstrap`, `--subject-bootstrap`, `plan
+/// --resamples`, the demo's `--bootstrap`): a reported interval needs about 2000; each resample
+/// is a fit, so 10^5 of them is already minutes per pooled group.
+pub const MAX_RESAMPLES: usize = 100_000;
+
 /// An image of `w` x `h` pixels that the suite may read (at least one pixel, within
 /// [`MAX_MAP_SIDE`] and [`MAX_MAP_TEXELS`]).
 pub fn check_texels(w: usize, h: usize) -> anyhow::Result<()> {
@@ -51,24 +67,78 @@ pub fn check_side(v: u32) -> Result<u32, String> {
 }
 
 /// A whole number from `lo` to `hi` on the command line; negative numbers and others get a
-/// message saying what was expected (clap's own would suggest `-- -1`).
-fn whole(s: &str, lo: u32, hi: u32, unit: &str) -> Result<u32, String> {
-    match s.trim().parse::<i64>() {
-        Ok(v) if (lo as i64..=hi as i64).contains(&v) => Ok(v as u32),
+/// message saying what was expected (clap's own would suggest `-- -1`). Flags using it set
+/// `allow_hyphen_values` so that `-1` reaches it.
+fn whole<T: TryFrom<i128>>(s: &str, lo: u64, hi: u64, unit: &str) -> Result<T, String> {
+    match s.trim().parse::<i128>() {
+        Ok(v) if (lo as i128..=hi as i128).contains(&v) => {
+            T::try_from(v).map_err(|_| format!("`{s}`: too large here"))
+        }
         _ => Err(format!(
             "`{s}`: expected a whole number of {unit} from {lo} to {hi}"
         )),
     }
 }
 
+/// A clap value parser of a real number in `lo..=hi` (`open`: both ends excluded), named
+/// `what` in the message; `-0.5` and `1.5` get the range instead of clap's `-- -0.5` hint or
+/// a silent accept.
+pub fn real(
+    lo: f64,
+    hi: f64,
+    open: bool,
+    what: &'static str,
+) -> impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync + 'static {
+    move |s: &str| {
+        let inside = |v: f64| {
+            if open {
+                v > lo && v < hi
+            } else {
+                v >= lo && v <= hi
+            }
+        };
+        match s.trim().parse::<f64>() {
+            Ok(v) if inside(v) => Ok(v),
+            _ => {
+                let (l, r) = if open { ("(", ")") } else { ("[", "]") };
+                Err(format!("`{s}`: expected {what} in {l}{lo}, {hi}{r}"))
+            }
+        }
+    }
+}
+
 /// clap value parser of an image side (`--width`, `--height`).
 pub fn parse_side(s: &str) -> Result<u32, String> {
-    whole(s, 1, MAX_IMAGE_SIDE, "pixels")
+    whole(s, 1, MAX_IMAGE_SIDE as u64, "pixels")
 }
 
 /// clap value parser of samples per pixel (`--spp`, levels).
 pub fn parse_spp(s: &str) -> Result<u32, String> {
-    whole(s, 1, MAX_SPP, "samples per pixel")
+    whole(s, 1, MAX_SPP as u64, "samples per pixel")
+}
+
+/// clap value parser of a subject count (`simulate --subjects`, each of `plan --subjects`).
+pub fn parse_subjects(s: &str) -> Result<usize, String> {
+    whole(s, 1, MAX_SUBJECTS as u64, "subjects")
+}
+
+/// clap value parser of `plan --replications`.
+pub fn parse_replications(s: &str) -> Result<u64, String> {
+    whole(s, 1, MAX_REPLICATIONS, "replications")
+}
+
+/// clap value parser of a bootstrap's resample count; `min` is the fewest that give the
+/// interval the flag reports (0 where the bootstrap can be switched off).
+pub fn resamples(min: u64) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync {
+    move |s: &str| whole(s, min, MAX_RESAMPLES as u64, "resamples")
+}
+
+/// The same limits for a library caller: `what` names the count (a flag or a field).
+pub fn check_count(what: &str, v: u64, lo: u64, hi: u64) -> anyhow::Result<()> {
+    if !(lo..=hi).contains(&v) {
+        anyhow::bail!("{what} is {v}; expected {lo} to {hi} (renderer::limits)");
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -86,5 +156,29 @@ mod tests {
         assert!(parse_spp("65537").is_err());
         assert!(parse_spp("-1").unwrap_err().contains("samples per pixel"));
         assert!(check_side(100_000).is_err() && check_side(16384).is_ok());
+        assert_eq!(parse_subjects("1000"), Ok(1000));
+        assert!(
+            parse_subjects("1000000000")
+                .unwrap_err()
+                .contains("1 to 1000")
+        );
+        assert!(parse_subjects("-3").is_err() && parse_subjects("0").is_err());
+        assert!(parse_replications("99999999999999999999999").is_err());
+        assert_eq!(resamples(0)("0"), Ok(0));
+        assert!(resamples(19)("18").is_err());
+    }
+
+    #[test]
+    fn real_numbers_keep_their_range() {
+        let p = real(0.0, 1.0, true, "a probability");
+        assert_eq!(p("0.8"), Ok(0.8));
+        for bad in ["1.5", "1", "0", "-0.5", "NaN", "inf", "x"] {
+            let e = p(bad).unwrap_err();
+            assert!(e.contains("expected a probability in (0, 1)"), "{bad}: {e}");
+        }
+        let q = real(0.0, 1.0, false, "a share");
+        assert_eq!(q("0"), Ok(0.0));
+        assert_eq!(q("1"), Ok(1.0));
+        assert!(q("NaN").is_err());
     }
 }

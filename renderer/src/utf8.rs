@@ -12,9 +12,10 @@ pub fn read(path: &Path, what: &str) -> Result<String> {
     decode(path, bytes, what)
 }
 
-/// `bytes` (the contents of `path`) as UTF-8 text, or an error locating the first bad byte.
+/// `bytes` (the contents of `path`) as UTF-8 text, or an error locating the first bad byte. A
+/// byte-order mark (some Windows editors write one) is skipped, in every text format alike.
 pub fn decode(path: &Path, bytes: Vec<u8>, what: &str) -> Result<String> {
-    String::from_utf8(bytes).or_else(|e| {
+    String::from_utf8(without_bom(bytes)).or_else(|e| {
         let at = e.utf8_error().valid_up_to();
         let (line, column) = locate(e.as_bytes(), at);
         bail!(
@@ -25,6 +26,17 @@ pub fn decode(path: &Path, bytes: Vec<u8>, what: &str) -> Result<String> {
             article(what)
         )
     })
+}
+
+/// The UTF-8 byte-order mark EF BB BF.
+pub const BOM: &[u8] = b"\xef\xbb\xbf";
+
+/// `bytes` without a leading byte-order mark.
+pub fn without_bom(mut bytes: Vec<u8>) -> Vec<u8> {
+    if bytes.starts_with(BOM) {
+        bytes.drain(..BOM.len());
+    }
+    bytes
 }
 
 /// "a" or "an", to go before `noun`.
@@ -64,6 +76,13 @@ mod tests {
             decode(Path::new("a"), b"fine".to_vec(), "x").unwrap(),
             "fine"
         );
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let text = decode(Path::new("a.scene"), b"\xef\xbb\xbfcamera\n".to_vec(), "x");
+        assert_eq!(text.unwrap(), "camera\n");
+        assert_eq!(without_bom(b"\xef\xbb".to_vec()), b"\xef\xbb");
     }
 
     #[test]

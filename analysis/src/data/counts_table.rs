@@ -3,6 +3,7 @@
 
 use super::{Dataset, Observation, Source};
 use anyhow::{Result, bail};
+use experiment::design::MAX_TRIALS;
 use std::path::PathBuf;
 
 impl Dataset {
@@ -40,6 +41,13 @@ impl Dataset {
                 let at = format!("{}:{}", f.display(), i + 2);
                 if r.level == 0 {
                     bail!("{at}: field `level` is 0; expected a positive integer (spp >= 1)");
+                }
+                if u64::from(r.trials) > MAX_TRIALS {
+                    bail!(
+                        "{at}: field `trials` is {}; expected at most {MAX_TRIALS} (a subject's \
+                         trials in a whole design; each trial is held in memory)",
+                        r.trials
+                    );
                 }
                 if r.correct > r.trials {
                     bail!(

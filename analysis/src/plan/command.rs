@@ -10,8 +10,12 @@ use crate::report::Settings;
 use anyhow::{Result, bail};
 use clap::Args;
 use experiment::{Design, Observer};
+use renderer::limits::real;
 use renderer::progress::terminal::{Look, Terminal};
 use std::path::PathBuf;
+
+/// Longest time a duration flag takes (a typo guard): a day, in seconds.
+const DAY: f64 = 86_400.0;
 
 /// How many subjects a study needs: simulate it many times and analyse each simulation.
 #[derive(Args, Clone, Debug)]
@@ -23,35 +27,44 @@ pub struct PlanArgs {
     #[arg(long)]
     pub observer: PathBuf,
     /// Subject counts to try.
-    #[arg(long, value_delimiter = ',', default_value = "4,8,12,16,24")]
+    #[arg(long, value_delimiter = ',', default_value = "4,8,12,16,24",
+          value_parser = renderer::limits::parse_subjects, allow_hyphen_values = true)]
     pub subjects: Vec<usize>,
     /// Simulated studies per subject count.
-    #[arg(long, default_value_t = 500)]
+    #[arg(long, default_value_t = 500, value_parser = renderer::limits::parse_replications,
+          allow_hyphen_values = true)]
     pub replications: u64,
     /// A pooled JND's interval is narrow when upper / lower < this factor (in spp).
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, value_parser = real(1.0, 1e6, true, "a ratio"),
+          allow_hyphen_values = true)]
     pub factor: f64,
     /// Bootstrap resamples per pooled fit (39: the percentile interval of 39 resamples covers
     /// with probability exactly 0.95, docs/benchmarks/recovery.md).
-    #[arg(long, default_value_t = 39)]
+    #[arg(long, default_value_t = 39, value_parser = renderer::limits::resamples(19),
+          allow_hyphen_values = true)]
     pub resamples: usize,
     /// Probability a recommendation requires (of a narrow interval, of significance).
-    #[arg(long, default_value_t = 0.8)]
+    #[arg(long, default_value_t = 0.8, value_parser = real(0.0, 1.0, true, "a probability"),
+          allow_hyphen_values = true)]
     pub probability: f64,
     /// Differences in proportion correct below this do not drive the recommendation.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05,
+          value_parser = real(0.0, 1.0, false, "a difference in proportion correct"),
+          allow_hyphen_values = true)]
     pub min_difference: f64,
     /// Fit a JND per condition too (not only per scene, point set and time filter).
     #[arg(long)]
     pub conditions: bool,
     /// Video length in seconds when the design's manifest is not rendered.
-    #[arg(long)]
+    #[arg(long, value_parser = real(0.0, DAY, true, "seconds"), allow_hyphen_values = true)]
     pub video_seconds: Option<f64>,
     /// Assumed time to answer a trial, seconds.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, value_parser = real(0.0, DAY, false, "seconds"),
+          allow_hyphen_values = true)]
     pub response_seconds: f64,
     /// Assumed length of a break, seconds.
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = 60.0, value_parser = real(0.0, DAY, false, "seconds"),
+          allow_hyphen_values = true)]
     pub break_seconds: f64,
     /// Output folder [default: results/<design name>/plan].
     #[arg(long)]
@@ -62,7 +75,8 @@ pub struct PlanArgs {
     /// Also plan the multilevel model's equivalence tests (TOST) of point sets and time
     /// filters at this margin in ln JND (0.2: a ratio within 0.82-1.22): their power and the
     /// subjects needed (`equivalence.json`, a section of plan.md).
-    #[arg(long)]
+    #[arg(long, value_parser = real(0.0, 5.0, true, "a margin in ln JND"),
+          allow_hyphen_values = true)]
     pub equivalence: Option<f64>,
     /// Subject counts for the equivalence tests [default: --subjects]. The TOST needs far more
     /// subjects than the pooled intervals (about 100 at margin 0.2 on the thesis design), and

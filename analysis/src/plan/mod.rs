@@ -115,9 +115,11 @@ pub fn run(
             s.subjects
         );
     }
-    if s.replications == 0 {
-        bail!("replications: expected at least 1");
+    use renderer::limits::{MAX_REPLICATIONS, MAX_SUBJECTS, check_count};
+    for &n in &s.subjects {
+        check_count("a subject count", n as u64, 1, MAX_SUBJECTS as u64)?;
     }
+    check_count("replications", s.replications, 1, MAX_REPLICATIONS)?;
     observer.check_covers(design)?;
     let jobs: Vec<(usize, u64)> = s
         .subjects

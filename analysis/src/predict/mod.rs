@@ -32,6 +32,7 @@ pub mod masking;
 pub mod modelfest;
 pub mod output;
 pub mod pooling;
+pub mod preflight;
 pub mod stimuli;
 pub mod temporal;
 pub mod validate;

@@ -152,6 +152,13 @@ pub fn predict(
     s.display.validate()?;
     let manifest = Manifest::load(manifest_path)?;
     let pairs = pairs(&manifest, manifest_path, design)?;
+    let mut ids: Vec<&str> = pairs
+        .iter()
+        .flat_map(|p| [&*p.test, &*p.reference])
+        .collect();
+    ids.sort_unstable();
+    ids.dedup();
+    super::preflight::check(&manifest, manifest_path, &ids)?;
     let display = Display::new(&s.display);
     let video = |id: &str| VideoSource::from_manifest(&manifest, manifest_path, id);
     let mut references: Vec<&str> = pairs.iter().map(|p| p.reference.as_str()).collect();

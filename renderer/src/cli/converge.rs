@@ -17,23 +17,25 @@ use std::path::PathBuf;
 pub struct ConvergeArgs {
     /// The scene file, e.g. scenes/thesis/spheres.json.
     pub scene: PathBuf,
-    /// Sampling levels (spp), increasing.
-    #[arg(long, value_delimiter = ',', default_values_t = dc::THESIS_LEVELS)]
+    /// Sampling levels (spp), increasing, separated by commas.
+    #[arg(long, value_delimiter = ',', default_value = THESIS_LEVELS,
+          value_parser = crate::limits::parse_spp, allow_hyphen_values = true)]
     pub levels: Vec<u32>,
-    /// Point sets to measure.
-    #[arg(long, value_delimiter = ',', default_values_t = dc::THESIS_POINT_SETS)]
+    /// Point sets to measure, separated by commas.
+    #[arg(long, value_delimiter = ',', default_value = THESIS_POINT_SETS)]
     pub point_sets: Vec<PointSetKind>,
     /// Time filter of every render (the thesis's study used the truncated box).
     #[arg(long, default_value = "truncated_box")]
     pub time_filter: TimeFilter,
-    /// Samples per pixel of the reference [default: 4 x the highest level].
+    /// Samples per pixel of the reference, above the highest level [default: 4 x the highest
+    /// level, at most 65536].
     #[arg(long, value_parser = crate::limits::parse_spp, allow_hyphen_values = true)]
     pub reference_spp: Option<u32>,
     /// Point set of the reference.
     #[arg(long, default_value = "sobol")]
     pub reference_point_set: PointSetKind,
-    /// Scene frames to compare [default: four spread over the animation].
-    #[arg(long, value_delimiter = ',')]
+    /// Scene frames to compare, separated by commas [default: four spread over the animation].
+    #[arg(long, value_delimiter = ',', value_parser = parse_frame, allow_hyphen_values = true)]
     pub frames: Vec<u32>,
     /// Image width in pixels (default: the scene's).
     #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
@@ -73,6 +75,35 @@ pub struct ConvergeArgs {
     pub no_progress: bool,
 }
 
+/// `--levels`' and `--point-sets`' defaults as the flags take them (comma-separated; clap's
+/// `default_values_t` would show them space-separated, which does not parse):
+/// [`dc::THESIS_LEVELS`] and [`dc::THESIS_POINT_SETS`], checked by a test.
+const THESIS_LEVELS: &str = "8,27,64,125,216,343,512";
+const THESIS_POINT_SETS: &str = "hammersley,stratified,poisson";
+
+/// A scene frame number of `--frames`.
+fn parse_frame(s: &str) -> Result<u32, String> {
+    s.trim()
+        .parse::<u32>()
+        .map_err(|_| format!("`{s}`: expected a frame number from 0"))
+}
+
+/// The reference's spp: `--reference-spp`, else 4 x the highest level (within the point sets'
+/// largest); it must be above every level, or the levels are judged against a coarser render.
+fn reference_spp(args: &ConvergeArgs) -> Result<u32> {
+    let top = args.levels.iter().copied().max().unwrap_or(1);
+    let spp = args
+        .reference_spp
+        .unwrap_or_else(|| top.saturating_mul(4).min(crate::limits::MAX_SPP));
+    if spp <= top {
+        bail!(
+            "--reference-spp is {spp}; expected more samples per pixel than the highest of \
+             --levels ({top}): the reference must be finer than every level it judges"
+        );
+    }
+    Ok(spp)
+}
+
 pub fn run(args: ConvergeArgs) -> Result<()> {
     let mut scene = Scene::load(&args.scene)?;
     for w in &scene.warnings {
@@ -92,13 +123,13 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     } else {
         args.frames.clone()
     };
-    let top = args.levels.iter().copied().max().unwrap_or(1);
+    let reference_spp = reference_spp(&args)?;
     let plan = Plan {
         levels: args.levels.clone(),
         point_sets: args.point_sets.clone(),
         time_filter: args.time_filter,
         reference_point_set: args.reference_point_set,
-        reference_spp: args.reference_spp.unwrap_or(4 * top),
+        reference_spp,
         frames,
         seed: args.seed,
         threshold: args.threshold,
@@ -167,4 +198,50 @@ fn write_csv(path: &std::path::Path, rows: &[dc::Row]) -> Result<()> {
     }
     let bytes = w.into_inner().context("cannot finish the CSV")?;
     crate::atomic::write_atomic(path, &bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: ConvergeArgs,
+    }
+
+    fn parse(extra: &[&str]) -> Result<ConvergeArgs, clap::Error> {
+        let argv = [&["converge", "scene.json"][..], extra].concat();
+        Cli::try_parse_from(argv).map(|c| c.args)
+    }
+
+    #[test]
+    fn defaults_are_the_thesis_plan_written_as_the_flags_take_them() {
+        let a = parse(&[]).unwrap();
+        assert_eq!(a.levels, dc::THESIS_LEVELS);
+        assert_eq!(a.point_sets, dc::THESIS_POINT_SETS);
+        assert_eq!(reference_spp(&a).unwrap(), 4 * 512);
+    }
+
+    #[test]
+    fn levels_and_reference_are_checked_naming_the_flag() {
+        let e = parse(&["--levels", "0,4"]).err().unwrap().to_string();
+        assert!(
+            e.contains("--levels") && e.contains("from 1 to 65536"),
+            "{e}"
+        );
+        let e = parse(&["--levels", "-8,27"]).err().unwrap().to_string();
+        assert!(e.contains("--levels") && e.contains("`-8`"), "{e}");
+        let a = parse(&["--levels", "8,27", "--reference-spp", "16"]).unwrap();
+        let e = reference_spp(&a).unwrap_err().to_string();
+        assert!(
+            e.contains("--reference-spp is 16") && e.contains("(27)"),
+            "{e}"
+        );
+        let a = parse(&["--levels", "65536"]).unwrap();
+        assert!(reference_spp(&a).is_err());
+        let e = parse(&["--frames", "-1"]).err().unwrap().to_string();
+        assert!(e.contains("--frames") && e.contains("frame number"), "{e}");
+    }
 }

@@ -27,7 +27,7 @@ pub use shard::Shard;
 use crate::condition::{PointSetKind, TimeFilter};
 use crate::sampling::{FrameSampler, SamplingConfig, SamplingOptions};
 use crate::text::SourceMap;
-use anyhow::Result;
+use anyhow::{Result, bail};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -212,6 +212,21 @@ impl Job {
     /// [`Job::load`], with the job's scenes replaced by `scenes` unless it is empty (the
     /// `--scene` option; paths relative to the working folder).
     pub fn load_with_scenes(path: &Path, scenes: &[PathBuf]) -> Result<Self> {
+        for s in scenes {
+            // Checked here, not with the job's own scenes: a missing --scene file used to be
+            // blamed on a line of the job.
+            if !s.is_file() {
+                let what = if s.is_dir() {
+                    "is a folder"
+                } else {
+                    "does not exist"
+                };
+                bail!(
+                    "--scene {}: {what}; expected a scene file (JSON or .scene)",
+                    s.display()
+                );
+            }
+        }
         let (mut file, mut map) = JobFile::read(path)?;
         if !scenes.is_empty() {
             file.scenes = scenes

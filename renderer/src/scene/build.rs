@@ -27,7 +27,10 @@ use crate::limits::MAX_IMAGE_SIDE as MAX_SIZE;
 /// Parse scene text; a syntax or type error names the field path where it happened
 /// ([`crate::json::from_str`]: a byte-order mark is skipped, trailing text refused).
 pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
-    crate::json::from_str(text, path, "scene file")
+    let file = crate::json::from_str(text, path, "scene file")?;
+    super::magnitude::check_tiny(text)
+        .map_err(|(field, what)| anyhow::anyhow!("{}: field `{field}` {what}", path.display()))?;
+    Ok(file)
 }
 
 /// Errors of one file.
@@ -276,11 +279,12 @@ pub fn build_mapped(f: SceneFile, path: &Path, map: Option<&SourceMap>) -> Resul
         .map(|(i, l)| light(&c, &format!("lights[{i}]"), l))
         .collect::<Result<Vec<_>>>()?;
     let settings = settings(&c, &f.settings)?;
+    // After the fields with their own range (Phong exponent, sizes), which name it first;
+    // before the camera's frames are checked (a frame_time of 3e38 is named as such) and the
+    // environment map is read.
+    super::magnitude::check(&f).map_err(|(field, what)| c.err(field, what))?;
     let camera = camera(&c, &f.camera, &settings)?;
     let mut warnings = Vec::new();
-    // After the fields with their own range (Phong exponent, sizes), which name it first;
-    // before the environment map is read.
-    super::magnitude::check(&f).map_err(|(field, what)| c.err(field, what))?;
     let environment = match &f.settings.environment {
         None => None,
         Some(e) => {

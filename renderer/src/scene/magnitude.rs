@@ -14,11 +14,54 @@ pub(super) fn check(f: &SceneFile) -> Result<(), (String, String)> {
     let s = &f.settings;
     let end = s.start_time as f64 + s.frames as f64 * s.frame_time as f64;
     let time = (s.start_time as f64).abs().max(end.abs());
+    // The times first: a `frame_time` of 3e38 would otherwise be blamed on the first velocity.
+    if time > MAX_MAGNITUDE {
+        let field = if (s.start_time as f64).abs() > MAX_MAGNITUDE {
+            "settings.start_time"
+        } else {
+            "settings.frame_time"
+        };
+        return Err((
+            field.to_string(),
+            format!(
+                "makes the animation's times reach |t| = {time:.3e} (start_time {}, {} frames \
+                 of frame_time {:e}); expected times of magnitude at most {MAX_MAGNITUDE:e} \
+                 (docs/limits.md)",
+                s.start_time, s.frames, s.frame_time
+            ),
+        ));
+    }
     let value = serde_json::to_value(f).map_err(|e| (String::new(), e.to_string()))?;
-    walk(&value, "", time)
+    walk(&value, "", &|x, at| number(x, at, time))
 }
 
-fn walk(v: &Value, field: &str, time: f64) -> Result<(), (String, String)> {
+/// The first number of a scene's JSON text that 32-bit floats round to 0 (`1e-50`): read as
+/// written, since the parsed scene already holds the 0. Larger numbers have their limit above.
+pub(super) fn check_tiny(text: &str) -> Result<(), (String, String)> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let Ok(value) = serde_json::from_str::<Value>(text) else {
+        return Ok(()); // the typed parse has named the syntax error
+    };
+    walk(&value, "", &|v, field| {
+        let x = v.as_f64().unwrap_or(0.0);
+        if x != 0.0 && x as f32 == 0.0 {
+            return Err((
+                field.to_string(),
+                format!(
+                    "holds {x:e}, which 32-bit floats round to 0; expected 0 or a magnitude of \
+                     at least {:e} (docs/limits.md)",
+                    f32::MIN_POSITIVE
+                ),
+            ));
+        }
+        Ok(())
+    })
+}
+
+type Visit<'a> = &'a dyn Fn(&Value, &str) -> Result<(), (String, String)>;
+
+/// `visit` every number of `v` with its field path; the first error stops the walk.
+fn walk(v: &Value, field: &str, visit: Visit) -> Result<(), (String, String)> {
     match v {
         Value::Object(m) => m.iter().try_for_each(|(k, v)| {
             let at = if field.is_empty() {
@@ -26,16 +69,16 @@ fn walk(v: &Value, field: &str, time: f64) -> Result<(), (String, String)> {
             } else {
                 format!("{field}.{k}")
             };
-            walk(v, &at, time)
+            walk(v, &at, visit)
         }),
         Value::Array(a) if a.iter().all(Value::is_number) => {
-            a.iter().try_for_each(|x| number(x, field, time))
+            a.iter().try_for_each(|x| visit(x, field))
         }
         Value::Array(a) => a
             .iter()
             .enumerate()
-            .try_for_each(|(i, v)| walk(v, &format!("{field}[{i}]"), time)),
-        Value::Number(_) => number(v, field, time),
+            .try_for_each(|(i, v)| walk(v, &format!("{field}[{i}]"), visit)),
+        Value::Number(_) => visit(v, field),
         _ => Ok(()),
     }
 }
@@ -72,6 +115,22 @@ fn number(v: &Value, field: &str, time: f64) -> Result<(), (String, String)> {
 mod tests {
     use super::*;
     use serde_json::json;
+
+    fn walk(v: &Value, field: &str, time: f64) -> Result<(), (String, String)> {
+        super::walk(v, field, &|x, at| number(x, at, time))
+    }
+
+    #[test]
+    fn numbers_that_round_to_zero_are_named_by_field() {
+        let tiny = r#"{"objects": [{"radius": 1.0, "location": [0, 1e-50, 0]}]}"#;
+        let (field, what) = check_tiny(tiny).unwrap_err();
+        assert_eq!(field, "objects[0].location");
+        assert!(
+            what.contains("1e-50") && what.contains("round to 0"),
+            "{what}"
+        );
+        assert!(check_tiny(r#"{"a": [0, 0.0, 1e-40, -2.5]}"#).is_ok());
+    }
 
     #[test]
     fn out_of_range_numbers_are_named_by_field() {

@@ -157,6 +157,17 @@ impl<'a> Entries<'a> {
         if !v.into().is_finite() {
             return Err(self.error(e, format!("expects finite numbers; `{word}` is not")));
         }
+        // `1e-50` parses to 0 as a 32-bit float: refused like `1e39`, not taken silently.
+        if v.into() == 0.0 && word.parse::<f64>().is_ok_and(|x| x != 0.0) {
+            return Err(self.error(
+                e,
+                format!(
+                    "holds `{word}`, which 32-bit floats round to 0; expected 0 or a magnitude \
+                     of at least {:e}",
+                    f32::MIN_POSITIVE
+                ),
+            ));
+        }
         Ok(v)
     }
 

@@ -27,7 +27,9 @@ pub use words::{Line, lines, quote};
 
 use std::path::Path;
 
-/// An error at a line of a text file: `plane.scene:14: what`.
+/// An error at a line of a text file: `plane.scene:14: what` (a long quoted word shortened by
+/// [`crate::quote::clip_quoted`]).
 pub fn at_line(path: &Path, line: usize, what: impl std::fmt::Display) -> anyhow::Error {
+    let what = crate::quote::clip_quoted(&what.to_string());
     anyhow::anyhow!("{}:{line}: {what}", path.display())
 }
