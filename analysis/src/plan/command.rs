@@ -81,7 +81,8 @@ pub struct PlanArgs {
     /// Subject counts for the equivalence tests [default: --subjects]. The TOST needs far more
     /// subjects than the pooled intervals (about 100 at margin 0.2 on the thesis design), and
     /// these replications skip the pooled fits, so they can search higher counts cheaply.
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = renderer::limits::parse_subjects,
+          allow_hyphen_values = true)]
     pub equivalence_subjects: Option<Vec<usize>>,
 }
 

@@ -53,6 +53,16 @@ pub fn run(
              degrees of freedom)"
         );
     }
+    use renderer::limits::{MAX_REPLICATIONS, MAX_SUBJECTS, check_count};
+    for &n in subjects {
+        check_count(
+            "an equivalence subject count",
+            n as u64,
+            2,
+            MAX_SUBJECTS as u64,
+        )?;
+    }
+    check_count("replications", replications, 1, MAX_REPLICATIONS)?;
     observer.check_covers(design)?;
     let s = ReplicationSettings {
         analysis: Settings::default(),
