@@ -61,6 +61,10 @@ fn predict(cli: &analysis::predict::command::PredictCli) -> anyhow::Result<()> {
             println!("{}", analysis::predict::command::validate_modelfest(m)?);
             return Ok(());
         }
+        (Some(PredictCommand::Frames(f)), _) => {
+            println!("{}", analysis::predict::command::combine_frames(f)?);
+            return Ok(());
+        }
         (None, Some(args)) => args,
         (None, None) => anyhow::bail!("blurlab predict: give a stimulus set or a subcommand"),
     };

@@ -31,6 +31,34 @@ pub enum PredictCommand {
         #[command(subcommand)]
         data: ValidateData,
     },
+    /// Combine predictions of single frames spread over one video (each a `predicted.csv` of
+    /// `blurlab predict`, or its folder) into the video's JNDs: d' pooled over the frames with
+    /// the model's time exponent, and the most visible frame.
+    Frames(FramesArgs),
+}
+
+#[derive(Args, Clone, Debug)]
+pub struct FramesArgs {
+    /// The frames' predictions (predicted.csv files or the folders holding them).
+    #[arg(required = true, num_args = 1..)]
+    pub predictions: Vec<PathBuf>,
+    /// Minkowski exponent over frames [default: the model's fitted time exponent].
+    #[arg(long, default_value_t = super::pooling::FITTED.space)]
+    pub exponent: f64,
+    /// Also write the table to this file (Markdown).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Combine single-frame predictions; returns the table.
+pub fn combine_frames(args: &FramesArgs) -> Result<String> {
+    let frames = super::frames::load_all(&args.predictions)?;
+    let jnds = super::frames::combine(&frames, args.exponent)?;
+    let table = super::frames::markdown(&frames, &jnds, args.exponent);
+    if let Some(out) = &args.out {
+        renderer::atomic::write_atomic(out, table.as_bytes())?;
+    }
+    Ok(table)
 }
 
 #[derive(Subcommand, Clone, Debug)]

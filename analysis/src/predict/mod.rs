@@ -13,6 +13,7 @@
 //! | `video` | the model on one test/reference pair, frame by frame |
 //! | `decision` | proportion correct from d': the two-pair task and 2IFC (with simulations) |
 //! | `stimuli` | a whole stimulus set: rows of `predicted.csv`, JNDs per condition |
+//! | `frames` | a video's JNDs from predictions of single frames spread over it |
 //! | `output` | `predicted.csv`, `predicted_jnd.csv`, `predict.md`, a figure per scene |
 //! | `calibrate` | the sensitivity constant fitted to real sessions, leave-one-condition-out |
 //! | `modelfest` | the ModelFest data set loaded and run through the pipeline |
@@ -28,6 +29,7 @@ pub mod compare;
 pub mod csf;
 pub mod decision;
 pub mod display;
+pub mod frames;
 pub mod masking;
 pub mod modelfest;
 pub mod output;
