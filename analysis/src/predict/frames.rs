@@ -10,6 +10,7 @@
 //! beta -> infinity: an observer who waits for the worst moment) is reported beside it, and each
 //! frame's own JND. d' = k Q, so with one k in every file pooling d' is pooling Q.
 
+use super::pooling::video_q;
 use super::stimuli::threshold;
 use crate::jnd::Threshold;
 use anyhow::{Result, bail};
@@ -130,7 +131,7 @@ fn video_jnd(frames: &[Frame], c: Condition, beta: f64) -> VideoJnd {
     by_level.retain(|_, ds| ds.len() == present.len());
     let pooled: Vec<(u32, f64)> = by_level
         .iter()
-        .map(|(&s, ds)| (s, minkowski_mean(ds, beta)))
+        .map(|(&s, ds)| (s, video_q(ds, beta)))
         .collect();
     let most: Vec<(u32, f64)> = by_level
         .iter()
@@ -146,11 +147,6 @@ fn video_jnd(frames: &[Frame], c: Condition, beta: f64) -> VideoJnd {
         frames: present.len(),
         condition: c,
     }
-}
-
-/// (mean v^beta)^(1/beta).
-fn minkowski_mean(v: &[f64], beta: f64) -> f64 {
-    (v.iter().map(|x| x.powf(beta)).sum::<f64>() / v.len() as f64).powf(1.0 / beta)
 }
 
 /// The table: one row per condition, a column per frame, then the pooled and the most
