@@ -12,7 +12,15 @@
 //! poisson-stratified (no difference: its power) are compared in one model each.
 //!
 //! `cargo run -p analysis --example multilevel_coverage -- <replications> <spreads, e.g.
-//! 0.3,0.9> [subjects] [coverage|tost] [first replication]`
+//! 0.3,0.9> [subjects] [coverage|tost] [first replication] [levels] [all|informative]`
+//!
+//! `levels` replaces the design's levels (`thesis`, or a list such as
+//! `1,8,27,64,125,216,343,512,729,1000`; the reference stays the highest level). With
+//! `informative` (the default, as `analyze`) the multilevel model leaves out the trials where
+//! test and reference are the same video (`Dataset::same_video_levels`: the highest level), at
+//! which the simulated observer answers at chance whatever its threshold; with `all` it fits
+//! them too, as the first three passes did (the pooled bootstrap keeps them either way: it is
+//! `plan`'s).
 //!
 //! Replications run from the first index (0) on, so a long run can be split into chunks
 //! (`100 0.9 12 coverage 500` is replications 500-599) whose rates add up weighted by count.
@@ -68,7 +76,20 @@ fn ln_interval(lo: &Option<Bound>, hi: &Option<Bound>) -> (f64, f64) {
     (end(lo, f64::INFINITY), end(hi, f64::NEG_INFINITY))
 }
 
-fn one(design: &Design, obs: &Observer, subjects: usize, r: u64, coverage: bool) -> Outcome {
+/// What a run varies besides the spread.
+#[derive(Clone, Copy)]
+struct Run {
+    subjects: usize,
+    coverage: bool,
+    /// Leave the highest level (test = reference) out of the multilevel fits.
+    informative: bool,
+}
+
+fn one(design: &Design, obs: &Observer, r: u64, run: Run) -> Outcome {
+    let Run {
+        subjects, coverage, ..
+    } = run;
+
     let mut analysis = Settings::default();
     analysis.bootstrap.resamples = 39;
     let s = ReplicationSettings {
@@ -89,6 +110,11 @@ fn one(design: &Design, obs: &Observer, subjects: usize, r: u64, coverage: bool)
         fit: &fit,
         target: 0.75,
         settings: &ml,
+        same_video_levels: if run.informative {
+            &ds.same_video_levels
+        } else {
+            &[]
+        },
     };
     let mut out = Outcome::default();
     let cells = if coverage { 2 } else { 0 };
@@ -147,9 +173,18 @@ fn main() {
     let coverage = args.get(4).is_none_or(|a| a != "tost");
     let first: u64 = args.get(5).map_or(0, |a| a.parse().unwrap());
     let runs = first..first + reps;
-    let design = Design::load(Path::new("scenes/designs/thesis.json")).expect("the thesis design");
+    let mut design =
+        Design::load(Path::new("scenes/designs/thesis.json")).expect("the thesis design");
+    if let Some(l) = args.get(6).filter(|a| *a != "thesis") {
+        design.file.levels = l.split(',').map(|v| v.parse().unwrap()).collect();
+    }
+    let run = Run {
+        subjects,
+        coverage,
+        informative: args.get(7).is_none_or(|a| a != "all"),
+    };
     if !coverage {
-        return tost_only(&design, runs, &spreads, subjects);
+        return tost_only(&design, runs, &spreads, run);
     }
     println!(
         "| spread | replications | condition | multilevel coverage | pooled coverage | mean ln JND error | ratio | TOST at margin (size) | TOST at 0 (power) | CPU s |"
@@ -161,7 +196,7 @@ fn main() {
         let outs: Vec<Outcome> = runs
             .clone()
             .into_par_iter()
-            .map(|r| one(&design, &obs, subjects, r, true))
+            .map(|r| one(&design, &obs, r, run))
             .collect();
         let cpu = cpu_seconds() - t0;
         let n = outs.len() as f64;
@@ -183,7 +218,8 @@ fn main() {
 }
 
 /// The TOST's size at the margin and power at no difference, with their binomial SDs.
-fn tost_only(design: &Design, runs: std::ops::Range<u64>, spreads: &[f64], subjects: usize) {
+fn tost_only(design: &Design, runs: std::ops::Range<u64>, spreads: &[f64], run: Run) {
+    let subjects = run.subjects;
     let reps = runs.end - runs.start;
     println!(
         "| subjects | spread | replications | TOST at margin (size) | SD | TOST at 0 (power) | SD | CPU s |"
@@ -195,7 +231,7 @@ fn tost_only(design: &Design, runs: std::ops::Range<u64>, spreads: &[f64], subje
         let outs: Vec<Outcome> = runs
             .clone()
             .into_par_iter()
-            .map(|r| one(design, &obs, subjects, r, false))
+            .map(|r| one(design, &obs, r, run))
             .collect();
         let cpu = cpu_seconds() - t0;
         let n = outs.len() as f64;

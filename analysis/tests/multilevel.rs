@@ -122,6 +122,7 @@ fn the_population_interval_covers_the_truth_in_simulated_studies() {
         fit: &settings.fit,
         target: 0.75,
         settings: settings.multilevel.as_ref().unwrap(),
+        same_video_levels: &[],
     };
     let n = 40;
     let mut covered = 0;
@@ -181,4 +182,28 @@ fn plan_equivalence_tabulates_every_point_set_pair_and_refuses_one_subject() {
     }
     let e = run(&design, &observer, &[12, 1], 1, 0.2, &NoProgress).unwrap_err();
     assert!(e.to_string().contains("--subjects) include 1;"), "{e}");
+}
+
+/// The thesis design's top level shows the reference (512 spp) against itself: read from real
+/// session logs (two simulated subjects through the session machine), exactly that level is a
+/// same-video level, which the multilevel model leaves out and the pooled fit keeps. A design
+/// with a scene reference has none.
+#[test]
+fn the_same_video_level_is_read_from_the_logs() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let design = experiment::Design::load(&root.join("scenes/designs/thesis.json")).unwrap();
+    let observer = experiment::Observer::load(&root.join("scenes/observers/thesis.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let read = |d: &experiment::Design, name: &str| {
+        let out = dir.path().join(name);
+        experiment::simulate::simulate(d, &observer, 2, &out).unwrap();
+        Dataset::read(&[out]).unwrap()
+    };
+    let ds = read(&design, "thesis");
+    assert_eq!(ds.same_video_levels, vec![512]);
+    let g = ds.groups_of(Grouping::Condition).next().unwrap();
+    assert_eq!(g.pooled.points.last().map(|p| p.level), Some(512));
+    let mut other = design.clone();
+    other.file.reference = experiment::design::ReferenceChoice::SceneReference;
+    assert!(read(&other, "scene_reference").same_video_levels.is_empty());
 }

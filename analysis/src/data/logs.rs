@@ -148,6 +148,7 @@ impl Dataset {
             );
         }
         let mut ds = Self::from_observations(&obs);
+        ds.same_video_levels = same_video_levels(logs, &skip);
         ds.design = first.header.design.clone();
         ds.design_hash = first.header.design_hash.clone();
         ds.files = logs.iter().map(|l| l.path.clone()).collect();
@@ -155,6 +156,27 @@ impl Dataset {
         ds.warnings = warnings;
         Ok(ds)
     }
+}
+
+/// The levels whose every analyzed main trial compared a video with itself.
+fn same_video_levels(
+    logs: &[SessionLog],
+    skip: &std::collections::HashSet<(usize, usize)>,
+) -> Vec<u32> {
+    // level -> whether every trial so far showed test = reference.
+    let mut levels: std::collections::BTreeMap<u32, bool> = Default::default();
+    for (li, log) in logs.iter().enumerate() {
+        for (ti, t) in log.trials.iter().enumerate() {
+            if !t.practice && !skip.contains(&(li, ti)) {
+                let same = levels.entry(t.level).or_insert(true);
+                *same &= t.test_stimulus == t.reference_stimulus;
+            }
+        }
+    }
+    levels
+        .into_iter()
+        .filter_map(|(level, same)| same.then_some(level))
+        .collect()
 }
 
 /// Folders expand to their `*.jsonl` files (not recursive); files are taken as given.

@@ -211,6 +211,11 @@ pub struct Dataset {
     pub source: Source,
     /// Subjects left out ([`Dataset::exclude`]), in the order given.
     pub excluded: Vec<Exclusion>,
+    /// Levels at which every main trial showed the reference against itself (test and
+    /// reference the same video: under the thesis's `highest_level` reference, the top level),
+    /// so that any observer answers at chance there whatever its threshold. Known only from
+    /// session logs (empty for counts tables). The multilevel model leaves these trials out.
+    pub same_video_levels: Vec<u32>,
 }
 
 /// One analyzed trial, reduced to what aggregation needs. The factors are names, not a
@@ -357,6 +362,7 @@ impl Dataset {
             warnings: Vec::new(),
             source: Source::SessionLogs,
             excluded: Vec::new(),
+            same_video_levels: Vec::new(),
         }
     }
 

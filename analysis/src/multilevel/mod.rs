@@ -57,12 +57,16 @@ impl Default for MultilevelSettings {
     }
 }
 
-/// What the fits share: the psychometric settings and the target.
+/// What the fits share: the psychometric settings, the target, and the levels left out.
 #[derive(Clone, Copy, Debug)]
 pub struct Context<'a> {
     pub fit: &'a FitSettings,
     pub target: f64,
     pub settings: &'a MultilevelSettings,
+    /// Levels whose trials showed the reference against itself ([`Dataset::same_video_levels`]):
+    /// every observer is at chance there whatever its threshold, which the model's function
+    /// (at chance only far above the threshold) would read as a lower threshold.
+    pub same_video_levels: &'a [u32],
 }
 
 /// One subject's shrunken JND: the posterior of the subject's threshold given the data at the
@@ -106,7 +110,7 @@ pub fn t_quantile(p: f64, df: f64) -> f64 {
     StudentsT::new(0.0, 1.0, df).expect("df > 0").inverse_cdf(p)
 }
 
-/// Starting vectors: each group's pooled fit (or the middle of the range with a moderate slope
+/// Starting vectors: each group's pooled fit without the same-video levels (or the middle of the range with a moderate slope
 /// when the pooled fit is a step), with a narrow and a wide between-subject SD.
 fn starts(curves: &[&[Curve]], layout: Layout, cx: &Context, counts: &Counts) -> Vec<Vec<f64>> {
     let span = (counts.x_hi - counts.x_lo).max(1.0);
@@ -121,6 +125,7 @@ fn starts(curves: &[&[Curve]], layout: Layout, cx: &Context, counts: &Counts) ->
                         .points
                         .iter()
                         .chain(&s.points)
+                        .filter(|p| !cx.same_video_levels.contains(&p.level))
                         .map(|p| (p.level, p.correct, p.trials)),
                 );
             }
@@ -158,7 +163,7 @@ pub fn estimate(
     cx: &Context,
     warm: Option<&[f64]>,
 ) -> Option<(Estimate, Counts)> {
-    let counts = Counts::new(curves);
+    let counts = Counts::new(curves, cx.same_video_levels);
     if !counts.identified() {
         return None;
     }
@@ -195,7 +200,13 @@ pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> 
     let se = e.se(0);
     let lo = counts.x_lo;
     let hi = counts.x_hi;
-    let levels = (lowest(&g.pooled), highest(&g.pooled));
+    let kept = Curve {
+        points: (g.pooled.points.iter())
+            .filter(|p| !cx.same_video_levels.contains(&p.level))
+            .copied()
+            .collect(),
+    };
+    let levels = (lowest(&kept), highest(&kept));
     let bound = |x: f64| bound_of(x, lo, hi, levels);
     let si = e.layout.sigma_index();
     let shrunken = counts
@@ -290,6 +301,7 @@ mod tests {
             fit: &FIT,
             target: 0.75,
             settings,
+            same_video_levels: &[],
         }
     }
 
@@ -397,6 +409,69 @@ mod tests {
         let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
         let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
         cov / (va * vb).sqrt()
+    }
+
+    /// Like [`subjects`] over the thesis's levels below 512, with the top level's trials at
+    /// chance whatever the threshold: test and reference the same video, as the thesis design
+    /// (`highest_level` reference) shows them and the experiment's simulated observer answers.
+    fn with_same_video_top(n: usize, jnd: f64, sigma: f64, trials: u32, seed: u64) -> Vec<Curve> {
+        let chance = Model {
+            alpha: -1e3,
+            ..thesis_plane_model()
+        };
+        let (curves, _) = subjects(n, jnd, sigma, trials, seed);
+        let mut out = Vec::new();
+        for (s, c) in curves.into_iter().enumerate() {
+            let top = simulate_curve(&chance, &[512], trials, seed, &[0x70b, s as u64]);
+            let mut c = c;
+            c.points.retain(|p| p.level != 512);
+            c.points.extend(top.points); // 512 is the highest level: the order holds
+            out.push(c);
+        }
+        out
+    }
+
+    #[test]
+    fn same_video_trials_are_left_out_and_the_threshold_recovered() {
+        // Subjects around 150 spp with SD 0.9 in ln spp: a third of them above 343, the last
+        // informative level. Leaving the 512 trials out must give exactly the fit of data
+        // without them; that fit recovers the population threshold within 3 of its standard
+        // errors, while fitting the chance trials as if informative pulls it down (the model's
+        // function is at chance only far above a threshold, so chance at 512 reads as a lower
+        // threshold).
+        let settings = MultilevelSettings {
+            resamples: 0,
+            ..MultilevelSettings::default()
+        };
+        let curves = with_same_video_top(60, 150.0, 0.9, 24, 5);
+        let skip = Context {
+            same_video_levels: &[512],
+            ..cx(&settings)
+        };
+        let (left_out, _) = estimate(&[&curves], false, &skip, None).unwrap();
+        let without: Vec<Curve> = curves
+            .iter()
+            .map(|c| Curve {
+                points: c
+                    .points
+                    .iter()
+                    .filter(|p| p.level != 512)
+                    .copied()
+                    .collect(),
+            })
+            .collect();
+        let (absent, _) = estimate(&[&without], false, &cx(&settings), None).unwrap();
+        assert_eq!(left_out.params, absent.params);
+        let t_se = left_out.se(0).unwrap();
+        let t = left_out.params.thresholds[0];
+        assert!((t - 150f64.ln()).abs() < 3.0 * t_se, "{t} +- {t_se}");
+        let (fitted, _) = estimate(&[&curves], false, &cx(&settings), None).unwrap();
+        // Measured: left out 4.984 +- 0.132 (truth 5.011); fitted 4.856, 14% low.
+        assert!(
+            fitted.params.thresholds[0] < t - 0.5 * t_se,
+            "{:?}",
+            fitted.params
+        );
     }
 
     #[test]

@@ -41,8 +41,8 @@ pub struct Counts {
 }
 
 impl Counts {
-    /// `curves[k][s]`: subject s's curve in group k.
-    pub fn new(curves: &[&[Curve]]) -> Self {
+    /// `curves[k][s]`: subject s's curve in group k, without its points at the levels `skip`.
+    pub fn new(curves: &[&[Curve]], skip: &[u32]) -> Self {
         let n_subjects = curves.iter().map(|c| c.len()).max().unwrap_or(0);
         let mut subjects = Vec::new();
         let mut rows = Vec::new();
@@ -55,6 +55,7 @@ impl Counts {
                     c.get(s)
                         .into_iter()
                         .flat_map(move |c| &c.points)
+                        .filter(|p| !skip.contains(&p.level))
                         .map(move |p| Count {
                             group,
                             x: p.x(),

@@ -52,7 +52,7 @@ pub fn replicates(
     key: u64,
     stat: impl Fn(&Estimate) -> f64 + Sync,
 ) -> Vec<f64> {
-    let with_data = super::model::Counts::new(curves).subjects;
+    let with_data = super::model::Counts::new(curves, cx.same_video_levels).subjects;
     (0..cx.settings.resamples as u64)
         .into_par_iter()
         .filter_map(|r| {

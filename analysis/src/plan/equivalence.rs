@@ -99,6 +99,7 @@ fn pairs(ds: &Dataset, s: &Settings, margin: f64) -> Vec<PairOutcome> {
         fit: &s.fit,
         target: s.target,
         settings: &ml,
+        same_video_levels: &ds.same_video_levels,
     };
     let mut out = Vec::new();
     for family in [Grouping::PointSet, Grouping::TimeFilter] {

@@ -140,6 +140,7 @@ pub fn analyze(ds: &Dataset, s: &Settings) -> Report {
                 fit: &s.fit,
                 target: s.target,
                 settings: m,
+                same_video_levels: &ds.same_video_levels,
             };
             MultilevelReport {
                 groups: group_models(ds, &cx),
