@@ -186,8 +186,8 @@ fn plan_equivalence_tabulates_every_point_set_pair_and_refuses_one_subject() {
 
 /// The thesis design's top level shows the reference (512 spp) against itself: read from real
 /// session logs (two simulated subjects through the session machine), exactly that level is a
-/// same-video level, which the multilevel model leaves out and the pooled fit keeps. A design
-/// with a scene reference has none.
+/// same-video level, which the multilevel model leaves out (and its report says so) while the
+/// pooled fit keeps it. A design with a scene reference has none.
 #[test]
 fn the_same_video_level_is_read_from_the_logs() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
@@ -203,6 +203,9 @@ fn the_same_video_level_is_read_from_the_logs() {
     assert_eq!(ds.same_video_levels, vec![512]);
     let g = ds.groups_of(Grouping::Condition).next().unwrap();
     assert_eq!(g.pooled.points.last().map(|p| p.level), Some(512));
+    let report = analyze(&ds, &settings());
+    let ml = report.multilevel.expect("asked for");
+    assert_eq!(ml.same_video_levels, vec![512]);
     let mut other = design.clone();
     other.file.reference = experiment::design::ReferenceChoice::SceneReference;
     assert!(read(&other, "scene_reference").same_video_levels.is_empty());

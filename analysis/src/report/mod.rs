@@ -143,6 +143,7 @@ pub fn analyze(ds: &Dataset, s: &Settings) -> Report {
                 same_video_levels: &ds.same_video_levels,
             };
             MultilevelReport {
+                same_video_levels: ds.same_video_levels.clone(),
                 groups: group_models(ds, &cx),
                 comparisons: compare_models(ds, &s.comparisons.order, &cx),
             }

@@ -13,6 +13,8 @@ use std::fmt::Write as _;
 /// The multilevel model's results.
 #[derive(Clone, Debug, Serialize)]
 pub struct MultilevelReport {
+    /// Levels left out of the model: every trial there showed the reference against itself.
+    pub same_video_levels: Vec<u32>,
     pub groups: Vec<GroupModel>,
     pub comparisons: Vec<ModelComparison>,
 }
@@ -34,6 +36,15 @@ impl Report {
              detected).\n",
             s.nodes, s.resamples, s.seed
         );
+        if !ml.same_video_levels.is_empty() {
+            let levels: Vec<String> = ml.same_video_levels.iter().map(u32::to_string).collect();
+            let _ = writeln!(
+                md,
+                "Left out of the model: the trials at {} spp, where test and reference were the \
+                 same video (chance whatever the threshold).\n",
+                levels.join(", ")
+            );
+        }
         let _ = writeln!(
             md,
             "| grouping | group | subjects | JND | {conf:.0}% CI (Wald) | {conf:.0}% CI (subject \
