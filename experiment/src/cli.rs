@@ -106,10 +106,16 @@ pub fn simulate(args: SimulateArgs) -> Result<()> {
 #[cfg(feature = "gui")]
 pub fn run(args: RunArgs) -> Result<()> {
     use renderer::progress::terminal::{Look, Terminal};
-    crate::app::launch(
+    let prepared = crate::app::prepare(
         &args.launch_options(),
         &Terminal::new(Look::Preflight, true),
-    )
+    )?;
+    // Before the window covers the screen.
+    for w in prepared.warnings() {
+        eprintln!("warning: {w}");
+    }
+    eprintln!("{}", crate::app::show(prepared)?);
+    Ok(())
 }
 
 /// `run` without the window: explain how to get it.

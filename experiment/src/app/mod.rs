@@ -51,9 +51,70 @@ impl LaunchOptions {
     }
 }
 
-/// `run`: preflight (reporting to `progress`), open (or continue) the subject's log, then the
-/// window.
-pub fn launch(args: &LaunchOptions, progress: &dyn Progress) -> Result<()> {
+/// A subject's session ready for the window: preflight passed, the log opened (or continued).
+pub struct Prepared {
+    session: Session,
+    manifest: renderer::manifest::Manifest,
+    manifest_path: PathBuf,
+    log_path: PathBuf,
+    subject: String,
+    design: String,
+    windowed: Option<(u32, u32)>,
+    pacing: Pacing,
+}
+
+impl Prepared {
+    /// What opening the log tolerated (a torn last line, ...), for the caller to show before
+    /// the window covers the screen.
+    pub fn warnings(&self) -> &[String] {
+        self.session.warnings()
+    }
+
+    /// Whether the subject has already answered every trial (then there is nothing to show).
+    pub fn is_complete(&self) -> bool {
+        self.session.is_complete()
+    }
+
+    /// The subject's log file.
+    pub fn log_path(&self) -> &std::path::Path {
+        &self.log_path
+    }
+}
+
+/// What [`launch`] did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Launched {
+    /// The subject had already answered every trial of the design: no window was opened.
+    AlreadyComplete {
+        subject: String,
+        design: String,
+        log: PathBuf,
+    },
+    /// The window ran and closed; the session's summary (trials answered, where the log is).
+    Ran { summary: String },
+}
+
+impl std::fmt::Display for Launched {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Launched::AlreadyComplete {
+                subject,
+                design,
+                log,
+            } => write!(
+                f,
+                "subject {subject} has already answered every trial of design {design:?} ({}); \
+                 nothing to do",
+                log.display()
+            ),
+            Launched::Ran { summary } => f.write_str(summary),
+        }
+    }
+}
+
+/// `run`'s first half: preflight (reporting to `progress`), then open (or continue) the
+/// subject's log. The library prints nothing: the caller shows [`Prepared::warnings`].
+pub fn prepare(args: &LaunchOptions, progress: &dyn Progress) -> Result<Prepared> {
     let design = Design::load(&args.design)?;
     let report = preflight(
         &design,
@@ -69,26 +130,49 @@ pub fn launch(args: &LaunchOptions, progress: &dyn Progress) -> Result<()> {
         .with_context(|| format!("cannot create folder {}", dir.display()))?;
     let log_path = dir.join(format!("{}.jsonl", args.subject));
     let session = Session::open(&design, &args.subject, &log_path, Durability::Sync)?;
-    for w in session.warnings() {
-        eprintln!("warning: {w}");
-    }
+    Ok(Prepared {
+        session,
+        manifest,
+        manifest_path,
+        log_path,
+        subject: args.subject.clone(),
+        design: design.name().to_string(),
+        windowed: args.windowed,
+        pacing: args.pacing,
+    })
+}
+
+/// `run`: [`prepare`], then the window unless the session is complete.
+pub fn launch(args: &LaunchOptions, progress: &dyn Progress) -> Result<Launched> {
+    show(prepare(args, progress)?)
+}
+
+/// `run`'s second half: the window over a prepared session (none if it is complete).
+pub fn show(prepared: Prepared) -> Result<Launched> {
+    let Prepared {
+        session,
+        manifest,
+        manifest_path,
+        log_path,
+        subject,
+        design,
+        windowed,
+        pacing,
+    } = prepared;
     if session.is_complete() {
-        eprintln!(
-            "subject {} has already answered every trial of design {:?} ({}); nothing to do",
-            args.subject,
-            design.name(),
-            log_path.display()
-        );
-        return Ok(());
+        return Ok(Launched::AlreadyComplete {
+            subject,
+            design,
+            log: log_path,
+        });
     }
-    let pacing = args.pacing;
     let mut app = SessionApp::new(session, manifest, manifest_path, pacing);
-    app.cover_monitor(args.windowed.is_none());
+    app.cover_monitor(windowed.is_none());
     let summary = app.summary();
     let mut viewport = egui::ViewportBuilder::default()
-        .with_title(format!("blurlab {} {}", design.name(), args.subject))
+        .with_title(format!("blurlab {design} {subject}"))
         .with_decorations(false);
-    viewport = match args.windowed {
+    viewport = match windowed {
         Some((w, h)) => viewport.with_inner_size([w as f32, h as f32]),
         None => viewport.with_fullscreen(true),
     };
@@ -108,6 +192,6 @@ pub fn launch(args: &LaunchOptions, progress: &dyn Progress) -> Result<()> {
         Box::new(|_cc| Ok(Box::new(app))),
     )
     .map_err(|e| anyhow::anyhow!("the session window failed: {e}"))?;
-    eprintln!("{}", summary.lock().expect("summary lock"));
-    Ok(())
+    let summary = summary.lock().expect("summary lock").clone();
+    Ok(Launched::Ran { summary })
 }
