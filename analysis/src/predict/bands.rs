@@ -94,14 +94,17 @@ fn signed(k: usize, n: usize) -> f64 {
 
 /// Radial frequency (cpd) of every coefficient, in the transposed layout of [`Fft2`].
 pub fn radial_frequencies(width: usize, height: usize, ppd: f64) -> Vec<f64> {
-    let mut out = Vec::with_capacity(width * height);
-    for kx in 0..width {
-        let fx = signed(kx, width);
-        for ky in 0..height {
-            out.push(ppd * fx.hypot(signed(ky, height)));
-        }
-    }
-    out
+    frequencies(width, height, ppd)
+        .map(|(fx, fy)| fx.hypot(fy))
+        .collect()
+}
+
+/// Horizontal and vertical frequency (cpd) of every coefficient, in the transposed layout of
+/// [`Fft2`].
+pub fn frequencies(width: usize, height: usize, ppd: f64) -> impl Iterator<Item = (f64, f64)> {
+    (0..width).flat_map(move |kx| {
+        (0..height).map(move |ky| (ppd * signed(kx, width), ppd * signed(ky, height)))
+    })
 }
 
 /// The lowest band centre is the last octave at or above this frequency, cpd: ModelFest's 256

@@ -83,7 +83,12 @@ pub struct ModelfestArgs {
 pub fn validate_modelfest(args: &ModelfestArgs) -> Result<String> {
     let stimuli = super::modelfest::load(&args.dir)?;
     let bar = Terminal::new(Look::Steps, !args.no_progress);
-    let r = super::validate::responses(&stimuli, &super::validate::grid(), &bar)?;
+    let r = super::validate::responses(
+        &stimuli,
+        &super::validate::grid(),
+        &super::validate::shapes(),
+        &bar,
+    )?;
     let report = super::validate::markdown(&super::validate::validate(&stimuli, &r)?);
     if let Some(out) = &args.out {
         renderer::atomic::write_atomic(out, format!("{report}\n").as_bytes())?;

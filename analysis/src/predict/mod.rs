@@ -9,7 +9,8 @@
 //! | `temporal` | sustained and transient channels as filters over looped frames |
 //! | `bands` | 2D FFT, octave bands, CSF weighting |
 //! | `masking` | threshold elevation by the reference's contrast |
-//! | `pooling` | Minkowski pooling over channels, space and time (fitted exponent) |
+//! | `pooling` | Minkowski pooling over channels, space and time, the aperture (fitted) |
+//! | `shape` | the CSF's shape and oblique effect as ModelFest's observers have them (fitted) |
 //! | `video` | the model on one test/reference pair, frame by frame |
 //! | `decision` | proportion correct from d': the two-pair task and 2IFC (with simulations) |
 //! | `stimuli` | a whole stimulus set: rows of `predicted.csv`, JNDs per condition |
@@ -17,7 +18,7 @@
 //! | `output` | `predicted.csv`, `predicted_jnd.csv`, `predict.md`, a figure per scene |
 //! | `calibrate` | the sensitivity constant fitted to real sessions, leave-one-condition-out |
 //! | `modelfest` | the ModelFest data set loaded and run through the pipeline |
-//! | `validate` | k and the pooling exponent fitted to ModelFest, errors and leave-one-out |
+//! | `validate` | k, the pooling and the CSF's shape fitted to ModelFest, errors, leave-one-out |
 //!
 //! `docs/predict.md` describes the model, its choices and what it cannot know.
 
@@ -35,6 +36,7 @@ pub mod modelfest;
 pub mod output;
 pub mod pooling;
 pub mod preflight;
+pub mod shape;
 pub mod stimuli;
 pub mod temporal;
 pub mod validate;

@@ -12,7 +12,8 @@
 //! local adaptation is L0, so Q grows linearly with C: the model's threshold is the C at which
 //! k Q reaches the 2IFC 84% point ([`super::decision::two_ifc_d_prime_for`]).
 
-use super::pooling::Grid;
+use super::pooling::{ChannelSums, Grid, Placement, Pooling};
+use super::shape::Shape;
 use super::video::{Filters, Viewing, frame_differences};
 use anyhow::{Context, Result, bail};
 use serde::Deserialize;
@@ -168,41 +169,125 @@ pub fn frames() -> usize {
     (VIDEO_SECONDS * FPS).round() as usize
 }
 
-/// Q per unit peak contrast of a stimulus, for each exponent pair of `grid` (in the order of
-/// [`Grid::pairs`]): the model's pipeline on the video at [`PROBE_CONTRAST`], divided by it.
-pub fn response(s: &Stimulus, grid: &Grid) -> Result<Vec<f64>> {
-    let viewing = Viewing {
+/// The viewing of a stimulus: ModelFest's display, the video the model sees.
+pub fn viewing(s: &Stimulus) -> Viewing {
+    Viewing {
         width: s.width,
         height: s.height,
         frames: frames(),
         fps: FPS,
         pixels_per_degree: PIXELS_PER_DEGREE,
         mean_luminance: MEAN_LUMINANCE,
-    };
-    let background = vec![MEAN_LUMINANCE as f32; s.contrast.len()];
-    let mut out = Vec::with_capacity(grid.channels.len() * grid.space.len());
+    }
+}
+
+/// Q per unit peak contrast of a stimulus for every pooling of `grid` and CSF shape of
+/// `shapes`, in the order of [`super::validate::params`] (channel exponent, shape, space
+/// exponent, aperture).
+///
+/// The stimulus is a static image times a time course on a uniform field, where nothing
+/// masks and the local adaptation is L0: every stage before the pooling is linear and
+/// separable, d_{b,k}(x, t) = g_k(t) d_{b,k}(x), g_k the time course through channel k. So
+/// each band is filtered once rather than at every frame ([`Filters::static_bands`]); the
+/// result is the pipeline's ([`frame_differences`]) to float rounding (test below), at a
+/// thirtieth of the transforms, which is what lets the fit search a grid of shapes.
+pub fn response(s: &Stimulus, grid: &Grid, shapes: &[Shape]) -> Result<Vec<f64>> {
+    let mut out = Vec::new();
     for &channels in &grid.channels {
-        let mut filters = Filters::new(viewing, channels)?;
-        let per_frame = frame_differences(&mut filters, &grid.space, |n| {
-            let a = (MEAN_LUMINANCE * PROBE_CONTRAST * time_course(n)) as f32;
-            let test = s
-                .contrast
+        for &shape in shapes {
+            let mut filters = Filters::new(viewing(s), channels, shape)?;
+            let bands = filters.static_bands(&s.contrast);
+            let [gs, gt] = filters.time_courses(time_course);
+            let one = Grid {
+                channels: vec![channels],
+                ..grid.clone()
+            };
+            let mut sums = ChannelSums::new(&[channels], s.contrast.len());
+            let per_frame: Vec<Vec<f64>> = gs
                 .iter()
-                .map(|&c| MEAN_LUMINANCE as f32 + a * c)
+                .zip(&gt)
+                .map(|(&fs, &ft)| {
+                    sums.clear();
+                    for [a, b] in &bands {
+                        sums.add_scaled(a, b, fs, ft);
+                    }
+                    sums.frame_q(&one, PIXELS_PER_DEGREE, s.width, Placement::Centre)
+                })
                 .collect();
-            Ok((test, background.clone()))
-        })?;
-        for (i, &beta) in grid.space.iter().enumerate() {
-            let q: Vec<f64> = per_frame.iter().map(|f| f[i]).collect();
-            out.push(super::pooling::video_q(&q, beta) / PROBE_CONTRAST);
+            for (i, p) in one.space_pairs(channels).iter().enumerate() {
+                let q: Vec<f64> = per_frame.iter().map(|f| f[i]).collect();
+                out.push(super::pooling::video_q(&q, p.space));
+            }
         }
     }
     Ok(out)
 }
 
+/// The same through the whole pipeline, frame by frame, at [`PROBE_CONTRAST`] (the suite's
+/// code path: adaptation, channels, bands, masking).
+pub fn response_by_frames(s: &Stimulus, pooling: Pooling, shape: Shape) -> Result<f64> {
+    let background = vec![MEAN_LUMINANCE as f32; s.contrast.len()];
+    let mut filters = Filters::new(viewing(s), pooling.channels, shape)?;
+    let per_frame = frame_differences(&mut filters, &Grid::one(pooling), Placement::Centre, |n| {
+        let a = (MEAN_LUMINANCE * PROBE_CONTRAST * time_course(n)) as f32;
+        let test = s
+            .contrast
+            .iter()
+            .map(|&c| MEAN_LUMINANCE as f32 + a * c)
+            .collect();
+        Ok((test, background.clone()))
+    })?;
+    let q: Vec<f64> = per_frame.iter().map(|f| f[0]).collect();
+    Ok(super::pooling::video_q(&q, pooling.space) / PROBE_CONTRAST)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_separable_response_is_the_pipelines() {
+        // A 64 x 64 Gabor (8 cpd, oblique) and a pixel of noise-like texture: every pooling
+        // and shape the fit may pick, against the frame-by-frame pipeline.
+        let (w, h) = (64usize, 64usize);
+        let contrast: Vec<f32> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f32 - 32.0, (i / w) as f32 - 32.0);
+                let g = (-(x * x + y * y) / 128.0).exp();
+                g * (0.4 * (x + y)).cos() + if i % 97 == 0 { 0.3 } else { 0.0 }
+            })
+            .collect();
+        let s = Stimulus {
+            number: 1,
+            name: "T1".into(),
+            family: "T".into(),
+            width: w,
+            height: h,
+            contrast,
+            measured: 1.0,
+            observations: 1,
+        };
+        let grid = Grid {
+            channels: vec![1.0, 2.0],
+            space: vec![1.6, 2.8],
+            apertures: vec![f64::INFINITY, 0.1],
+        };
+        let shapes = [
+            super::super::shape::NONE,
+            Shape {
+                narrowing: 0.05,
+                centre_cpd: 8.0,
+                oblique: 0.3,
+            },
+        ];
+        let fast = response(&s, &grid, &shapes).unwrap();
+        let params = super::super::validate::params(&grid, &shapes);
+        assert_eq!(fast.len(), params.len());
+        for (p, q) in params.iter().zip(&fast) {
+            let slow = response_by_frames(&s, p.pooling, p.shape).unwrap();
+            assert!((q / slow - 1.0).abs() < 1e-3, "{p:?}: {q} vs {slow}");
+        }
+    }
 
     #[test]
     fn the_time_course_is_a_cut_gaussian_centred_in_the_video() {

@@ -18,8 +18,12 @@
 //! 2. space, a Minkowski sum over the picture as an integral over visual angle (deg^2):
 //!    Q_t = (sum_x |D(x, t)|^beta / ppd^2)^(1/beta), the spatial pooling of Watson &
 //!    Ahumada's standard spatial observer (2005, JOV 5(9):6). A sum, not a mean: noise-free
-//!    area adds nothing, and a bigger patch of the same difference is more visible. The
-//!    exponent beta is fitted to ModelFest ([`super::modelfest`], [`FITTED`]);
+//!    area adds nothing, and a bigger patch of the same difference is more visible. Under a
+//!    Gaussian aperture of sd s (the standard observer's), D is weighted by
+//!    w(x) = exp(-r^2 / (2 s^2)) before the power; the window is centred on ModelFest's stimuli
+//!    (their fixation mark) and, in the suite's videos, frame by frame where the windowed sum is
+//!    largest ([`Placement`]). beta and s are fitted to ModelFest ([`super::modelfest`],
+//!    [`FITTED`]);
 //! 3. time, the same exponent as a mean over the video's frames: Q = (mean_t Q_t^beta)^(1/beta).
 //!    A trial loops its videos, so the mean is the Minkowski integral over a fixed window of
 //!    the loop (the window's length is a constant that k holds); ModelFest's presentation is
@@ -27,49 +31,66 @@
 //!    over the presentation. ModelFest's stimuli share one time course, so they cannot fit a
 //!    separate temporal exponent: one exponent serves both (documented in docs/predict.md).
 
-/// The two pooling exponents.
+/// How the visible difference is pooled: the two exponents and the spatial aperture.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Exponents {
+pub struct Pooling {
     /// beta_c, over bands at each pixel (the temporal channels add linearly within a band).
     pub channels: f64,
     /// beta, over space and time.
     pub space: f64,
+    /// Standard deviation of the Gaussian aperture, degrees (infinite: no aperture).
+    pub aperture_deg: f64,
 }
 
-/// The exponents fitted, with [`super::decision::DEFAULT_K`], to the 43 ModelFest thresholds
-/// by least squares on log thresholds (`blurlab predict validate modelfest`).
-pub const FITTED: Exponents = Exponents {
+/// The pooling fitted, with [`super::decision::DEFAULT_K`] and [`super::shape::FITTED`], to
+/// the 43 ModelFest thresholds by least squares on log thresholds (`blurlab predict validate
+/// modelfest`).
+pub const FITTED: Pooling = Pooling {
     channels: 2.0,
-    space: 2.8,
+    space: 2.6,
+    aperture_deg: 0.5,
 };
 
-/// A grid of exponent pairs to evaluate in one pass of the pipeline: every channel exponent
-/// with every space exponent, channel-major ([`Grid::pairs`]).
+/// A grid of poolings to evaluate in one pass of the pipeline: every channel exponent with
+/// every space exponent and every aperture, in that order ([`Grid::pairs`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid {
     pub channels: Vec<f64>,
     pub space: Vec<f64>,
+    pub apertures: Vec<f64>,
 }
 
 impl Grid {
-    pub fn one(e: Exponents) -> Self {
+    pub fn one(p: Pooling) -> Self {
         Self {
-            channels: vec![e.channels],
-            space: vec![e.space],
+            channels: vec![p.channels],
+            space: vec![p.space],
+            apertures: vec![p.aperture_deg],
         }
     }
 
-    /// The pairs in the order of the pipeline's outputs.
-    pub fn pairs(&self) -> Vec<Exponents> {
-        self.channels
-            .iter()
-            .flat_map(|&c| {
-                self.space.iter().map(move |&s| Exponents {
-                    channels: c,
-                    space: s,
-                })
-            })
-            .collect()
+    /// The poolings in the order of the pipeline's outputs.
+    pub fn pairs(&self) -> Vec<Pooling> {
+        let mut out = Vec::new();
+        for &channels in &self.channels {
+            out.extend(self.space_pairs(channels));
+        }
+        out
+    }
+
+    /// The poolings of one channel exponent, in the order of [`ChannelSums::frame_q`].
+    pub fn space_pairs(&self, channels: f64) -> Vec<Pooling> {
+        let mut out = Vec::new();
+        for &space in &self.space {
+            for &aperture_deg in &self.apertures {
+                out.push(Pooling {
+                    channels,
+                    space,
+                    aperture_deg,
+                });
+            }
+        }
+        out
     }
 }
 
@@ -106,34 +127,118 @@ impl ChannelSums {
 
     /// Add one band's two channel outputs (already divided by their threshold elevations).
     pub fn add(&mut self, sustained: &[f32], transient: &[f32]) {
+        self.add_scaled(sustained, transient, 1.0, 1.0);
+    }
+
+    /// Add one band's two channel outputs, each times its factor.
+    pub fn add_scaled(&mut self, sustained: &[f32], transient: &[f32], fs: f32, ft: f32) {
         for (e, sum) in self.exponents.iter().zip(self.sums.iter_mut()) {
             for ((acc, &a), &b) in sum.iter_mut().zip(sustained).zip(transient) {
-                *acc += power(a.abs() + b.abs(), *e);
+                *acc += power((fs * a).abs() + (ft * b).abs(), *e);
             }
         }
     }
 
-    /// Q_t of every (channel, space) pair of `grid` (whose channel exponents are these).
-    pub fn frame_q(&self, grid: &Grid, pixels_per_degree: f64) -> Vec<f64> {
+    /// Q_t of every pooling of `grid` (whose channel exponents are these), in the order of
+    /// [`Grid::pairs`], for a frame `width` pixels wide; an aperture sits where `placement`
+    /// puts it.
+    pub fn frame_q(
+        &self,
+        grid: &Grid,
+        pixels_per_degree: f64,
+        width: usize,
+        placement: Placement,
+    ) -> Vec<f64> {
         let pixel_deg2 = pixels_per_degree.powi(-2);
-        let mut out = Vec::with_capacity(grid.channels.len() * grid.space.len());
+        let pixels = self.sums.first().map_or(0, Vec::len);
+        let mut out = Vec::with_capacity(grid.pairs().len());
+        let centred: Vec<Option<Vec<f32>>> = grid
+            .apertures
+            .iter()
+            .map(|&a| {
+                (a.is_finite() && placement == Placement::Centre)
+                    .then(|| log_aperture(width, pixels, pixels_per_degree, a))
+            })
+            .collect();
         for (bc, sum) in self.exponents.iter().zip(&self.sums) {
+            let logs: Vec<f32> = sum.iter().map(|&v| v.ln()).collect();
             for &b in &grid.space {
-                // D^beta = (sum |d|^beta_c)^(beta / beta_c).
+                // D^beta w^beta = exp((beta / beta_c) ln sum + beta ln w).
                 let r = (b / bc) as f32;
-                let total: f64 = if r == 1.0 {
-                    sum.iter().map(|&v| v as f64).sum()
-                } else {
-                    sum.iter()
-                        .filter(|v| **v > 0.0)
-                        .map(|&v| v.powf(r) as f64)
-                        .sum()
-                };
-                out.push((total * pixel_deg2).powf(1.0 / b));
+                for (&a, w) in grid.apertures.iter().zip(&centred) {
+                    let total: f64 = match w {
+                        _ if a.is_finite() && placement == Placement::MostVisible => {
+                            let d: Vec<f32> = logs.iter().map(|&l| (r * l).exp()).collect();
+                            most_visible(&d, width, a * pixels_per_degree / b.sqrt())
+                        }
+                        None if r == 1.0 => sum.iter().map(|&v| v as f64).sum(),
+                        None => logs.iter().map(|&l| (r * l).exp() as f64).sum(),
+                        Some(w) => logs
+                            .iter()
+                            .zip(w)
+                            .map(|(&l, &lw)| (r * l + b as f32 * lw).exp() as f64)
+                            .sum(),
+                    };
+                    out.push((total * pixel_deg2).powf(1.0 / b));
+                }
             }
         }
         out
     }
+}
+
+/// Where the spatial aperture sits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placement {
+    /// On the frame's centre: ModelFest's stimuli, centred on the observers' fixation mark.
+    Centre,
+    /// Where the windowed sum is largest, frame by frame: an observer who looks at the most
+    /// visible place (the suite's videos, where nobody tells the subject where to look).
+    MostVisible,
+}
+
+/// The largest sum of `d` (a frame `width` pixels wide) under a Gaussian window of standard
+/// deviation `sd_px` pixels, over the window's positions on pixel centres: the largest value
+/// of d blurred (unnormalised, zero outside the frame) by exp(-r^2 / (2 sd^2)).
+pub fn most_visible(d: &[f32], width: usize, sd_px: f64) -> f64 {
+    let height = d.len() / width.max(1);
+    let reach = (4.0 * sd_px).ceil() as usize;
+    let k: Vec<f64> = (0..=reach)
+        .map(|i| (-0.5 * (i as f64 / sd_px).powi(2)).exp())
+        .collect();
+    let blur = |get: &dyn Fn(usize) -> f64, n: usize, i: usize| -> f64 {
+        let lo = i.saturating_sub(reach);
+        let hi = (i + reach).min(n - 1);
+        (lo..=hi).map(|j| get(j) * k[j.abs_diff(i)]).sum()
+    };
+    let mut rows = vec![0f64; d.len()];
+    for y in 0..height {
+        let row = &d[y * width..(y + 1) * width];
+        for x in 0..width {
+            rows[y * width + x] = blur(&|j| row[j] as f64, width, x);
+        }
+    }
+    let mut best = 0f64;
+    for x in 0..width {
+        for y in 0..height {
+            best = best.max(blur(&|j| rows[j * width + x], height, y));
+        }
+    }
+    best
+}
+
+/// ln of a Gaussian aperture of standard deviation `sd_deg` centred on a frame `width` pixels
+/// wide: -r^2 / (2 sd^2), r the distance from the frame's centre in degrees.
+pub fn log_aperture(width: usize, pixels: usize, pixels_per_degree: f64, sd_deg: f64) -> Vec<f32> {
+    let height = pixels / width.max(1);
+    let (cx, cy) = ((width as f64 - 1.0) / 2.0, (height as f64 - 1.0) / 2.0);
+    let s = 2.0 * (sd_deg * pixels_per_degree).powi(2);
+    (0..pixels)
+        .map(|i| {
+            let (x, y) = ((i % width) as f64 - cx, (i / width) as f64 - cy);
+            (-(x * x + y * y) / s) as f32
+        })
+        .collect()
 }
 
 /// Q of the whole video from its frames' Q_t: (mean Q_t^beta)^(1/beta).
@@ -155,9 +260,67 @@ mod tests {
             &Grid {
                 channels: channels.to_vec(),
                 space: space.to_vec(),
+                apertures: vec![f64::INFINITY],
             },
             ppd,
+            d.len(),
+            Placement::Centre,
         )
+    }
+
+    #[test]
+    fn an_aperture_weighs_by_its_gaussian_and_is_centred() {
+        // D = 1 over a 12-deg square at 20 ppd: with an aperture of sd s the integral of
+        // w^beta is 2 pi s^2 / beta (the square holds > 6 sd); without, the square's area.
+        let (side, ppd) = (240, 20.0);
+        let mut c = ChannelSums::new(&[2.0], side * side);
+        c.add(&vec![1.0; side * side], &vec![0.0; side * side]);
+        let grid = Grid {
+            channels: vec![2.0],
+            space: vec![2.0, 3.0],
+            apertures: vec![f64::INFINITY, 1.0, 0.5],
+        };
+        let q = c.frame_q(&grid, ppd, side, Placement::Centre);
+        assert_eq!(grid.pairs().len(), q.len());
+        for (p, got) in grid.pairs().iter().zip(&q) {
+            let s = p.aperture_deg;
+            let want = if s.is_finite() {
+                2.0 * std::f64::consts::PI * s * s / p.space
+            } else {
+                144.0
+            };
+            let want = want.powf(1.0 / p.space);
+            assert!((got / want - 1.0).abs() < 1e-4, "{p:?}: {got} vs {want}");
+        }
+        // A patch of D = 1 off the frame's centre: the centred window sees its edge, the
+        // most visible place is on it and sees what a centred window on a centred patch sees.
+        let patch = |x0: usize| {
+            let mut c = ChannelSums::new(&[2.0], side * side);
+            let d: Vec<f32> = (0..side * side)
+                .map(|i| {
+                    let (x, y) = (i % side, i / side);
+                    f32::from(x.abs_diff(x0) < 30 && y.abs_diff(side / 2) < 30)
+                })
+                .collect();
+            c.add(&d, &vec![0.0; d.len()]);
+            c
+        };
+        let one = Grid {
+            channels: vec![2.0],
+            space: vec![2.8],
+            apertures: vec![0.5],
+        };
+        let centred = patch(side / 2).frame_q(&one, ppd, side, Placement::Centre)[0];
+        let off = patch(40);
+        let moved = off.frame_q(&one, ppd, side, Placement::MostVisible)[0];
+        assert!((moved / centred - 1.0).abs() < 2e-3, "{moved} vs {centred}");
+        assert!(off.frame_q(&one, ppd, side, Placement::Centre)[0] < 0.01 * centred);
+        // Centred: the window's weight is 1 in the middle of the frame (between four pixels
+        // here) and falls alike on each side.
+        let w = log_aperture(4, 16, 1.0, 1.0);
+        assert_eq!(w[5], w[10]);
+        assert_eq!(w[0], w[15]);
+        assert!((w[5] as f64 + 0.25).abs() < 1e-6);
     }
 
     #[test]
@@ -191,8 +354,9 @@ mod tests {
         let grid = Grid {
             channels: vec![1.0, 2.0, 4.0, 2.5],
             space: vec![1.0],
+            apertures: vec![f64::INFINITY],
         };
-        let q = c.frame_q(&grid, 1.0);
+        let q = c.frame_q(&grid, 1.0, 1, Placement::Centre);
         let want = [
             7.0,
             5.0,

@@ -9,7 +9,7 @@
 
 use super::decision::two_pair_p_correct;
 use super::display::Display;
-use super::pooling::{FITTED, video_q};
+use super::pooling::{FITTED, Grid, Placement, video_q};
 use super::video::{Filters, Viewing, frame_differences};
 use crate::jnd::Threshold;
 use anyhow::{Context, Result, bail};
@@ -231,13 +231,18 @@ fn predict_pair(
         // A black reference has no adaptation level; the floor of the local adaptation applies.
         mean_luminance: mean.max(super::video::ADAPTATION_FLOOR as f64),
     };
-    let mut filters = Filters::new(viewing, FITTED.channels)?;
-    let q_frames: Vec<f64> = frame_differences(&mut filters, &[FITTED.space], |i| {
-        Ok((
-            display.luminance(&load_frame(test, i)?.rgb),
-            display.luminance(&load_frame(reference, i)?.rgb),
-        ))
-    })?
+    let mut filters = Filters::new(viewing, FITTED.channels, super::shape::FITTED)?;
+    let q_frames: Vec<f64> = frame_differences(
+        &mut filters,
+        &Grid::one(FITTED),
+        Placement::MostVisible,
+        |i| {
+            Ok((
+                display.luminance(&load_frame(test, i)?.rgb),
+                display.luminance(&load_frame(reference, i)?.rgb),
+            ))
+        },
+    )?
     .into_iter()
     .map(|q| q[0])
     .collect();

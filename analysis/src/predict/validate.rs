@@ -2,55 +2,106 @@
 //! the model's pipeline, its free parameters fitted by least squares on the log thresholds,
 //! and the error reported overall, per stimulus, per family and leave-one-out.
 //!
-//! Free parameters: the sensitivity constant k (d' = k Q) and the two Minkowski pooling
-//! exponents, beta_c over bands and channels and beta over space and time
-//! ([`super::pooling`]). Everything else is fixed as published (stelaCSF, the bands, the
-//! channels) or as chosen in docs/predict.md. For given exponents the predicted log
-//! sensitivity is log10 S_i = log10 k + log10(Q1_i / d'_84) (Q1 the response per unit peak
-//! contrast, d'_84 the 2IFC 84% point), so the least-squares log10 k is the mean residual in
-//! closed form; the exponents are the grid point ([`grid`]) with the least squared error.
-//! Leave-one-out refits all three without each stimulus and predicts that one.
+//! Free parameters: the sensitivity constant k (d' = k Q); the pooling ([`super::pooling`]):
+//! beta over space and time and the spatial aperture's size (beta_c over bands and channels is
+//! held at the first pass's fit, [`grid`]); the CSF's shape ([`super::shape`]): its narrowing
+//! c, the narrowing's centre and the oblique loss w. Everything else is fixed as published
+//! (stelaCSF, the bands, the channels) or as chosen in docs/predict.md. For given parameters
+//! the predicted log sensitivity is log10 S_i = log10 k + log10(Q1_i / d'_84) (Q1 the
+//! response per unit peak contrast, d'_84 the 2IFC 84% point), so the least-squares log10 k is
+//! the mean residual in closed form; the rest is the grid point ([`grid`], [`shapes`]) with
+//! the least squared error. Leave-one-out refits everything without each stimulus and
+//! predicts that one.
 
 use super::decision::two_ifc_d_prime_for;
 use super::modelfest::{CRITERION, Stimulus, response};
-use super::pooling::{Exponents, Grid};
+use super::pooling::{Grid, Pooling};
+use super::shape::Shape;
 use anyhow::{Result, bail};
 use rayon::prelude::*;
 use renderer::progress::Progress;
 use std::fmt::Write as _;
 
-/// The exponents the fit searches: beta_c in {1, 2, 3, 4} (integers cost multiplications, not
-/// powers, at every pixel of every band), beta in 1.0, 1.2, ..., 6.0.
+/// The fit's free parameters but k: the pooling and the CSF's shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    pub pooling: Pooling,
+    pub shape: Shape,
+}
+
+/// Every point of a grid of poolings and shapes, in the order of
+/// [`super::modelfest::response`]: channel exponent, shape, space exponent, aperture.
+pub fn params(grid: &Grid, shapes: &[Shape]) -> Vec<Params> {
+    let mut out = Vec::new();
+    for &channels in &grid.channels {
+        for &shape in shapes {
+            for pooling in grid.space_pairs(channels) {
+                out.push(Params { pooling, shape });
+            }
+        }
+    }
+    out
+}
+
+/// The poolings the fit searches: beta_c = 2 (fitted from {1, 2, 3, 4} by the first pass and
+/// kept: each value costs a pass of the pipeline), beta in 2.2, 2.6, 3.0, 3.4 (the first
+/// pass's fit 2.8 in the middle), the aperture's sd none, 1 or 0.5 deg.
 pub fn grid() -> Grid {
     Grid {
-        channels: vec![1.0, 2.0, 3.0, 4.0],
-        space: (5..=30).map(|i| i as f64 * 0.2).collect(),
+        channels: vec![2.0],
+        space: vec![2.2, 2.6, 3.0, 3.4],
+        apertures: vec![f64::INFINITY, 1.0, 0.5],
     }
 }
 
-/// The model's response per unit contrast of every stimulus at every exponent of a grid.
+/// The CSF shapes the fit searches: narrowing c in 0, 0.015, 0.03, 0.045 (log10 per
+/// octave^2) around 4 or 8 cpd (one centre at c = 0, where it does nothing), oblique loss w
+/// in 0, 0.15, 0.3. A coarse grid: the machine is shared and each shape costs a pass.
+pub fn shapes() -> Vec<Shape> {
+    let mut out = Vec::new();
+    for c in 0..=3 {
+        let centres = if c == 0 { &[4.0][..] } else { &[4.0, 8.0][..] };
+        for &centre_cpd in centres {
+            for w in 0..=2 {
+                out.push(Shape {
+                    narrowing: c as f64 * 0.015,
+                    centre_cpd,
+                    oblique: w as f64 * 0.15,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The model's response per unit contrast of every stimulus at every point of a grid.
 #[derive(Clone, Debug)]
 pub struct Responses {
-    pub pairs: Vec<Exponents>,
+    pub pairs: Vec<Params>,
     /// `q1[stimulus][pair]`.
     pub q1: Vec<Vec<f64>>,
 }
 
 /// Run the pipeline on every stimulus (in parallel; `progress` counts stimuli).
-pub fn responses(stimuli: &[Stimulus], grid: &Grid, progress: &dyn Progress) -> Result<Responses> {
+pub fn responses(
+    stimuli: &[Stimulus],
+    grid: &Grid,
+    shapes: &[Shape],
+    progress: &dyn Progress,
+) -> Result<Responses> {
     progress.start(stimuli.len() as u64);
     progress.message("ModelFest stimuli");
     let q1 = stimuli
         .par_iter()
         .map(|s| {
-            let r = response(s, grid);
+            let r = response(s, grid, shapes);
             progress.advance(1);
             r
         })
         .collect::<Result<Vec<_>>>()?;
     progress.finish();
     Ok(Responses {
-        pairs: grid.pairs(),
+        pairs: params(grid, shapes),
         q1,
     })
 }
@@ -58,7 +109,7 @@ pub fn responses(stimuli: &[Stimulus], grid: &Grid, progress: &dyn Progress) -> 
 /// Fitted parameters and the fit's error on the stimuli it was fitted to.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fit {
-    pub exponents: Exponents,
+    pub params: Params,
     pub log10_k: f64,
     /// Root mean square of the log10 residuals.
     pub rms_log10: f64,
@@ -69,7 +120,7 @@ impl Fit {
         10f64.powf(self.log10_k)
     }
 
-    /// Predicted log10 sensitivity of a stimulus of response `q1` at this fit's exponents.
+    /// Predicted log10 sensitivity of a stimulus of response `q1` at this fit's parameters.
     pub fn predict(&self, q1: f64) -> f64 {
         self.log10_k + (q1 / d_prime_84()).log10()
     }
@@ -86,7 +137,7 @@ pub fn fit(measured: &[f64], r: &Responses, use_: &[usize]) -> Result<Fit> {
         bail!("no stimuli to fit");
     }
     let mut best: Option<Fit> = None;
-    for (j, &exponents) in r.pairs.iter().enumerate() {
+    for (j, &params) in r.pairs.iter().enumerate() {
         let base = |i: usize| (r.q1[i][j] / d_prime_84()).log10();
         let n = use_.len() as f64;
         let log10_k = use_.iter().map(|&i| measured[i] - base(i)).sum::<f64>() / n;
@@ -95,7 +146,7 @@ pub fn fit(measured: &[f64], r: &Responses, use_: &[usize]) -> Result<Fit> {
             .map(|&i| (measured[i] - base(i) - log10_k).powi(2))
             .sum();
         let f = Fit {
-            exponents,
+            params,
             log10_k,
             rms_log10: (sse / n).sqrt(),
         };
@@ -111,8 +162,8 @@ pub fn predicted(f: &Fit, r: &Responses, i: usize) -> f64 {
     let j = r
         .pairs
         .iter()
-        .position(|&e| e == f.exponents)
-        .expect("a fit's exponents are a pair of the grid's");
+        .position(|&e| e == f.params)
+        .expect("a fit's parameters are a point of the grid's");
     f.predict(r.q1[i][j])
 }
 
@@ -221,15 +272,25 @@ pub fn families(v: &Validation) -> Vec<(String, usize, f64, f64)> {
 pub fn markdown(v: &Validation) -> String {
     let mut s = String::new();
     let f = &v.fit;
+    let (p, sh) = (f.params.pooling, f.params.shape);
     let _ = writeln!(
         s,
         "# ModelFest validation\n\nFitted by least squares on log10 thresholds: k = {:.4} \
-         (log10 k = {:.4}), pooling exponents beta_c = {:.0} (bands and channels), beta = {:.1} \
-         (space and time). Decision: 2IFC, 84% correct at d' = {:.4}.\n",
+         (log10 k = {:.4}); pooling exponents beta_c = {:.0} (bands and channels), beta = {:.1} \
+         (space and time); aperture sd {} deg; CSF narrowing c = {:.2} log10 per octave^2 \
+         around {:.2} cpd, oblique loss w = {:.1}. Decision: 2IFC, 84% correct at d' = {:.4}.\n",
         f.k(),
         f.log10_k,
-        f.exponents.channels,
-        f.exponents.space,
+        p.channels,
+        p.space,
+        if p.aperture_deg.is_finite() {
+            format!("{:.1}", p.aperture_deg)
+        } else {
+            "none (infinite)".into()
+        },
+        sh.narrowing,
+        sh.centre_cpd,
+        sh.oblique,
         d_prime_84()
     );
     s.push_str(
@@ -272,51 +333,89 @@ pub fn markdown(v: &Validation) -> String {
 mod tests {
     use super::*;
 
-    /// Responses following q1 = 50 a_i^(1/beta) b_i^(1/beta_c) exactly: the fit must find
-    /// the true exponents and k.
-    fn synthetic(truth: Exponents, log10_k: f64) -> (Vec<f64>, Responses) {
-        let ab = [
-            (0.5, 1.0),
-            (2.0, 3.0),
-            (8.0, 1.0),
-            (30.0, 0.2),
-            (100.0, 7.0),
-            (3.0, 2.0),
-        ];
-        let pairs = grid().pairs();
-        let q = |(a, b): (f64, f64), e: &Exponents| {
-            50.0 * f64::powf(a, 1.0 / e.space) * f64::powf(b, 1.0 / e.channels)
+    /// A small grid for the synthetic fits.
+    fn test_grid() -> (Grid, Vec<Shape>) {
+        let grid = Grid {
+            channels: vec![2.0, 3.0],
+            space: vec![2.4, 2.6, 2.8],
+            apertures: vec![f64::INFINITY, 1.0],
         };
-        let q1 = ab
+        let shapes = [(0.0, 0.0), (0.02, 0.0), (0.0, 0.2), (0.02, 0.2)]
+            .map(|(narrowing, oblique)| Shape {
+                narrowing,
+                centre_cpd: 4.0,
+                oblique,
+            })
+            .to_vec();
+        (grid, shapes)
+    }
+
+    /// Responses following q1 = 50 a^(1/beta) b^(1/beta_c) (1 - w o) 10^(-c n) / (1 + e / sd)
+    /// exactly, each stimulus with its own (a, b, o, n, e): the fit must find the truth and k.
+    fn synthetic(truth: Params, log10_k: f64) -> (Vec<f64>, Responses) {
+        let x = [
+            (0.5, 1.0, 0.0, 1.0, 0.1),
+            (2.0, 3.0, 1.0, 0.0, 0.5),
+            (8.0, 1.0, 0.5, 4.0, 0.0),
+            (30.0, 0.2, 0.0, 2.0, 2.0),
+            (100.0, 7.0, 0.2, 6.0, 0.3),
+            (3.0, 2.0, 1.0, 0.5, 1.0),
+            (1.0, 5.0, 0.7, 3.0, 0.2),
+            (9.0, 0.5, 0.1, 9.0, 3.0),
+        ];
+        let (grid, shapes) = test_grid();
+        let pairs = params(&grid, &shapes);
+        let q = |(a, b, o, n, e): (f64, f64, f64, f64, f64), p: &Params| {
+            let (pl, sh) = (p.pooling, p.shape);
+            50.0 * f64::powf(a, 1.0 / pl.space)
+                * f64::powf(b, 1.0 / pl.channels)
+                * (1.0 - sh.oblique * o)
+                * 10f64.powf(-sh.narrowing * n)
+                / (1.0 + e / pl.aperture_deg)
+        };
+        let q1 = x
             .iter()
-            .map(|&x| pairs.iter().map(|e| q(x, e)).collect())
+            .map(|&x| pairs.iter().map(|p| q(x, p)).collect())
             .collect();
-        let measured = ab
+        let measured = x
             .iter()
             .map(|&x| log10_k + (q(x, &truth) / d_prime_84()).log10())
             .collect();
         (measured, Responses { pairs, q1 })
     }
 
-    const TRUTH: Exponents = Exponents {
-        channels: 3.0,
-        space: 2.6,
-    };
+    fn truth() -> Params {
+        let (grid, shapes) = test_grid();
+        Params {
+            pooling: grid.space_pairs(3.0)[3],
+            shape: shapes[3],
+        }
+    }
 
     #[test]
     fn the_fit_recovers_known_parameters() {
-        let (measured, r) = synthetic(TRUTH, -0.3);
+        let t = truth();
+        assert_eq!((t.pooling.space, t.pooling.aperture_deg), (2.6, 1.0));
+        let (measured, r) = synthetic(t, -0.3);
         let all: Vec<usize> = (0..measured.len()).collect();
         let f = fit(&measured, &r, &all).unwrap();
-        assert_eq!(f.exponents.channels, 3.0, "{f:?}");
-        assert!((f.exponents.space - 2.6).abs() < 1e-9, "{f:?}");
+        assert_eq!(f.params, t, "{f:?}");
         assert!((f.log10_k + 0.3).abs() < 1e-9, "{f:?}");
         assert!(f.rms_log10 < 1e-9);
     }
 
     #[test]
+    fn the_grids_are_in_the_responses_order() {
+        let ps = params(&grid(), &shapes());
+        assert_eq!(ps.len(), 4 * 3 * 21);
+        assert_eq!(ps[1].pooling.aperture_deg, 1.0);
+        assert_eq!(ps[3].pooling.space, 2.6);
+        assert_eq!(ps[13].shape, shapes()[1]);
+    }
+
+    #[test]
     fn leave_one_out_predicts_an_exact_model_exactly_and_reports_in_db() {
-        let (measured, r) = synthetic(TRUTH, 0.2);
+        let (measured, r) = synthetic(truth(), 0.2);
         let stimuli: Vec<Stimulus> = measured
             .iter()
             .enumerate()
@@ -333,7 +432,7 @@ mod tests {
             .collect();
         let v = validate(&stimuli, &r).unwrap();
         assert!(v.rms_db() < 1e-6 && v.loo_rms_db() < 1e-6);
-        assert!(markdown(&v).ends_with("RMS error: 0.00 dB over 6 stimuli"));
+        assert!(markdown(&v).ends_with("RMS error: 0.00 dB over 8 stimuli"));
         // A stimulus measured 0.1 log units (2 dB) too sensitive shows in its own line.
         let mut moved = stimuli.clone();
         moved[2].measured += 0.1;

@@ -18,10 +18,11 @@
 //! transforms), and e is never packed with c, so identical videos give e = 0 exactly, hence
 //! Q = 0 exactly.
 
-use super::bands::{Fft2, band_centres, radial_frequencies, window};
+use super::bands::{Fft2, band_centres, frequencies, radial_frequencies, window};
 use super::csf::{SUSTAINED, TRANSIENT, spatial, sustained_response, transient_response};
 use super::masking::threshold_elevation;
-use super::pooling::{ChannelSums, Grid};
+use super::pooling::{ChannelSums, Grid, Placement};
+use super::shape::Shape;
 use super::temporal::{Kernel, kernel};
 use anyhow::{Result, bail};
 use rustfft::num_complex::Complex32;
@@ -66,8 +67,9 @@ impl Filters {
     /// The filters of a viewing, for pooling over bands and channels with exponent
     /// `channel_exponent` (beta_c): each band's window is raised to 1 / beta_c, so the windows'
     /// beta_c-th powers sum to 1 and a grating between two band centres pools to its
-    /// CSF-weighted contrast as one at a centre does (no ripple over frequency).
-    pub fn new(v: Viewing, channel_exponent: f64) -> Result<Self> {
+    /// CSF-weighted contrast as one at a centre does (no ripple over frequency). `shape`
+    /// corrects the CSF's weights ([`super::shape`]).
+    pub fn new(v: Viewing, channel_exponent: f64, shape: Shape) -> Result<Self> {
         if v.width == 0 || v.height == 0 || v.frames == 0 {
             bail!(
                 "a video of {}x{} pixels and {} frames has nothing to compare",
@@ -93,8 +95,15 @@ impl Filters {
             .map(|r| ((-two_pi2_s2 * r * r).exp() / n) as f32)
             .collect();
         let (l, a) = (v.mean_luminance, CSF_AREA_DEG2);
-        let csf: [Vec<f64>; 2] =
-            [SUSTAINED, TRANSIENT].map(|m| rho.iter().map(|&r| spatial(&m, r, l, a)).collect());
+        let gain: Vec<f64> = frequencies(v.width, v.height, v.pixels_per_degree)
+            .map(|(fx, fy)| shape.gain(fx, fy))
+            .collect();
+        let csf: [Vec<f64>; 2] = [SUSTAINED, TRANSIENT].map(|m| {
+            rho.iter()
+                .zip(&gain)
+                .map(|(&r, &g)| g * spatial(&m, r, l, a))
+                .collect()
+        });
         let bands = (0..centres.len())
             .map(|b| {
                 [0, 1].map(|k| {
@@ -159,15 +168,60 @@ impl Filters {
         }
         self.fft.inverse(out);
     }
+
+    /// The band images of a static contrast image c on a uniform reference, per band
+    /// (sustained, transient): the pipeline's d_{b,S} and d_{b,T} for e(x, t) = c(x) before
+    /// the temporal channels, with nothing to mask them (the reference's contrast is 0).
+    pub fn static_bands(&mut self, contrast: &[f32]) -> Vec<[Vec<f32>; 2]> {
+        let mut z: Vec<Complex32> = contrast.iter().map(|&c| Complex32::new(c, c)).collect();
+        self.fft.forward(&mut z);
+        let mut out = vec![Complex32::default(); z.len()];
+        (0..self.bands.len())
+            .map(|b| {
+                self.band(&z, b, &mut out);
+                [
+                    out.iter().map(|v| v.re).collect(),
+                    out.iter().map(|v| v.im).collect(),
+                ]
+            })
+            .collect()
+    }
+
+    /// The sustained and transient channels' outputs at every frame for a time course g
+    /// (frame -> value) of the looped video.
+    pub fn time_courses(&self, g: impl Fn(usize) -> f64) -> [Vec<f32>; 2] {
+        let f = self.viewing.frames as i64;
+        self.kernels.clone().map(|k| {
+            (0..f)
+                .map(|t| {
+                    k.taps
+                        .iter()
+                        .map(|&(o, w)| w * g((t + o).rem_euclid(f) as usize) as f32)
+                        .sum()
+                })
+                .collect()
+        })
+    }
+
+    /// The channel exponent and viewing these filters were made for.
+    pub fn channel_exponent(&self) -> f64 {
+        self.channel_exponent
+    }
+
+    pub fn viewing(&self) -> Viewing {
+        self.viewing
+    }
 }
 
-/// Per-frame visible difference Q_t of a video pair, for each space exponent of `space`
-/// (`out[t][i]` for `space[i]`; the filters hold the channel exponent); `load(t)` gives frame
+/// Per-frame visible difference Q_t of a video pair, for each space exponent and aperture of
+/// `pooling` (`out[t][i]` in the order of [`Grid::space_pairs`]; its channel exponents are
+/// ignored: the filters hold theirs), an aperture placed by `placement`; `load(t)` gives frame
 /// t's luminance (test, reference). Frames are loaded as the temporal window reaches them and
 /// dropped after.
 pub fn frame_differences(
     filters: &mut Filters,
-    space: &[f64],
+    pooling: &Grid,
+    placement: Placement,
     mut load: impl FnMut(usize) -> Result<(Vec<f32>, Vec<f32>)>,
 ) -> Result<Vec<Vec<f64>>> {
     let v = filters.viewing;
@@ -191,7 +245,7 @@ pub fn frame_differences(
     let mut c_band = vec![Complex32::default(); pixels];
     let grid = Grid {
         channels: vec![filters.channel_exponent],
-        space: space.to_vec(),
+        ..pooling.clone()
     };
     let mut sums = ChannelSums::new(&grid.channels, pixels);
     let (mut sustained, mut transient) = (vec![0f32; pixels], vec![0f32; pixels]);
@@ -249,7 +303,7 @@ pub fn frame_differences(
             }
             sums.add(&sustained, &transient);
         }
-        out.push(sums.frame_q(&grid, v.pixels_per_degree));
+        out.push(sums.frame_q(&grid, v.pixels_per_degree, v.width, placement));
     }
     Ok(out)
 }
@@ -257,7 +311,8 @@ pub fn frame_differences(
 #[cfg(test)]
 mod tests {
     use super::super::csf::sensitivity;
-    use super::super::pooling::{Exponents, FITTED};
+    use super::super::pooling::{FITTED, Pooling};
+    use super::super::shape::{self, NONE};
     use super::*;
     use std::f64::consts::PI;
 
@@ -274,9 +329,9 @@ mod tests {
 
     /// Q (exponents `e`) of a drifting grating of contrast `c`, `cycles` per video width,
     /// `j` cycles per loop of `frames` frames, on a uniform reference of 100 cd/m^2.
-    fn grating_q(v: Viewing, c: f64, cycles: f64, j: f64, e: Exponents) -> f64 {
-        let mut filters = Filters::new(v, e.channels).unwrap();
-        let q = frame_differences(&mut filters, &[e.space], |t| {
+    fn grating_q(v: Viewing, c: f64, cycles: f64, j: f64, e: Pooling) -> f64 {
+        let mut filters = Filters::new(v, e.channels, NONE).unwrap();
+        let q = frame_differences(&mut filters, &Grid::one(e), Placement::Centre, |t| {
             let reference = vec![100f32; v.width * v.height];
             let test = (0..v.width * v.height)
                 .map(|i| {
@@ -301,9 +356,10 @@ mod tests {
         let v = viewing(8);
         let area = (v.width * v.height) as f64 / v.pixels_per_degree.powi(2);
         for channels in [1.0, 2.0, 3.0] {
-            let e = Exponents {
+            let e = Pooling {
                 channels,
                 space: 2.0,
+                aperture_deg: f64::INFINITY,
             };
             for (cycles, j) in [
                 (2.0, 0.0),
@@ -329,15 +385,15 @@ mod tests {
 
     /// Q of a static Gabor patch (4 cycles per 64 pixels, sd 8 pixels) in the middle of a
     /// `side`-pixel uniform field.
-    fn gabor_q(side: usize, e: Exponents) -> f64 {
+    fn gabor_q(side: usize, e: Pooling) -> f64 {
         let v = Viewing {
             width: side,
             height: side,
             ..viewing(2)
         };
-        let mut filters = Filters::new(v, e.channels).unwrap();
+        let mut filters = Filters::new(v, e.channels, NONE).unwrap();
         let mid = side as f64 / 2.0;
-        let q = frame_differences(&mut filters, &[e.space], |_| {
+        let q = frame_differences(&mut filters, &Grid::one(e), Placement::Centre, |_| {
             let test = (0..side * side)
                 .map(|i| {
                     let (x, y) = ((i % side) as f64 - mid, (i / side) as f64 - mid);
@@ -359,7 +415,11 @@ mod tests {
         // band filters reach past the patch and wrap around the small field (periodic), which
         // moves Q by up to 2e-4 either way: the tolerance.
         for (channels, space) in [(1.0, 1.5), (1.0, 3.0), (2.0, 2.0), (2.0, 4.0), (3.0, 2.6)] {
-            let e = Exponents { channels, space };
+            let e = Pooling {
+                channels,
+                space,
+                aperture_deg: f64::INFINITY,
+            };
             let small = gabor_q(64, e);
             for side in [128, 256] {
                 let big = gabor_q(side, e);
@@ -374,8 +434,8 @@ mod tests {
     #[test]
     fn identical_videos_have_no_visible_difference() {
         let v = viewing(3);
-        let mut filters = Filters::new(v, FITTED.channels).unwrap();
-        let q = frame_differences(&mut filters, &[FITTED.space], |t| {
+        let mut filters = Filters::new(v, FITTED.channels, shape::FITTED).unwrap();
+        let q = frame_differences(&mut filters, &Grid::one(FITTED), Placement::Centre, |t| {
             let f: Vec<f32> = (0..64 * 64)
                 .map(|i| ((i * 7 + t * 13) % 255) as f32)
                 .collect();
