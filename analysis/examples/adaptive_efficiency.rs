@@ -1,7 +1,8 @@
 //! The efficiency of the adaptive procedures against the thesis's constant stimuli (issue 27):
 //! simulated observers (the thesis observer without spread between subjects, so each
 //! condition's true JND is known: 40 spp on the plane, 100 on the spheres) answer whole
-//! sessions through the real session machine and log writer (`experiment::simulate`); each
+//! sessions through the real session machine into logs kept in memory
+//! (`experiment::simulate::simulate_subject_in_memory`, the bytes a log file holds); each
 //! subject's condition is fitted and bootstrapped exactly as `analyze` does it (logistic, lapse
 //! free within its default bound, 95% percentile interval). Per procedure and trial count:
 //! the median ratio upper / lower of the per-subject, per-condition JND interval (an end outside
@@ -17,8 +18,11 @@
 //!     scenes/designs/thesis.json scenes/observers/thesis.json 1000 200 > efficiency.md
 //! ```
 //! (arguments: constant-stimuli design, observer, replications, bootstrap resamples (0: fits
-//! and posteriors only, the interval columns of the fits left empty), and optionally a text the
-//! procedures' names must contain, e.g. `QUEST+`). Each
+//! and posteriors only, the interval columns of the fits left empty), optionally a text the
+//! procedures' names must contain, e.g. `QUEST+` (comma-separated: any of them), and optionally the names of the QUEST+ priors
+//! to run, comma-separated (`priors`; default: `default`)). With a prior, the QUEST+ sessions use
+//! it and every procedure's posterior is computed with it, so the intervals compared are the
+//! same kind (one grid, one prior). Each
 //! replication r reseeds the design and the observer as `plan` does (`plan::replicate::seeded`).
 
 use analysis::bootstrap::{Bound, bootstrap};
@@ -31,8 +35,10 @@ use experiment::log::SessionLog;
 use experiment::procedure::interleave::Track;
 use experiment::procedure::quest_plus::QuestPlus;
 use experiment::procedure::spec::QuestGoal;
-use experiment::procedure::{self, ProcedureSpec, QuestPlusSpec, StairRule, StaircaseSpec};
-use experiment::simulate::simulate_subject;
+use experiment::procedure::{
+    self, ProcedureSpec, QuestPlusSpec, SlopePrior, StairRule, StaircaseSpec, ThresholdRange,
+};
+use experiment::simulate::simulate_subject_in_memory;
 use experiment::{Design, Observer};
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -57,39 +63,83 @@ fn main() -> Result<()> {
     let reps: u64 = args.get(2).context(usage)?.parse()?;
     let resamples: usize = args.get(3).context(usage)?.parse()?;
     let only = args.get(4).cloned().unwrap_or_default();
+    let wanted = args.get(5).map_or("default", String::as_str);
+    let chosen: Vec<(&str, QuestPlusSpec)> = priors()
+        .into_iter()
+        .filter(|p| wanted.split(',').any(|w| w == p.0))
+        .collect();
+    if chosen.is_empty() {
+        anyhow::bail!(
+            "priors {wanted:?}: expected names from {:?}",
+            priors().map(|p| p.0)
+        );
+    }
     println!(
         "| procedure | trials per subject (mean) | median interval upper/lower | both ends inside | \
          coverage | bias median | bias mean (fits with a value) | posterior: median upper/lower, coverage, bias median | \
          next trial known while answering |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
-    for (name, spec) in procedures().into_iter().filter(|p| p.0.contains(&only)) {
-        let mut d = design.clone();
-        d.file.procedure = spec;
-        let t0 = std::time::Instant::now();
-        let (trials, known, cells) = run(&d, &observer, reps, resamples)?;
-        println!("{} {:.3} |", row(&name, trials, &cells), known);
-        eprintln!("{name}: {:.0} s", t0.elapsed().as_secs_f64());
+    for (prior_name, prior) in &chosen {
+        for (name, spec) in procedures(prior)
+            .into_iter()
+            .filter(|p| only.split(',').any(|o| p.0.contains(o)))
+        {
+            let name = format!("{name} [prior {prior_name}]");
+            let mut d = design.clone();
+            d.file.procedure = spec;
+            let t0 = std::time::Instant::now();
+            let (trials, known, cells) = run(&d, &observer, prior, reps, resamples)?;
+            println!("{} {:.3} |", row(&name, trials, &cells), known);
+            eprintln!("{name}: {:.0} s", t0.elapsed().as_secs_f64());
+        }
     }
     Ok(())
 }
 
-fn procedures() -> Vec<(String, ProcedureSpec)> {
+/// The QUEST+ priors compared (docs/benchmarks/adaptive.md, "Third pass", says where each
+/// comes from). `quest`'s slope: Watson & Pelli's (1983) Weibull beta 3.5 per ln contrast for
+/// 2AFC contrast detection, halved because Monte Carlo noise's amplitude goes as spp^(-1/2), and
+/// times 4 ln 2 / 2 = 1.386 to turn a Weibull's slope at its midpoint into a logistic's: 2.43
+/// per ln spp (the simulated observer's is 1.5, so this prior is centred off the truth). `truth`
+/// is centred on the simulated observer's own slope: it flatters QUEST+. The range 8-343 spp is
+/// the rendered levels without their ends: the levels were chosen to bracket the thresholds.
+fn priors() -> [(&'static str, QuestPlusSpec); 5] {
+    let slope = |median, sd_ln| SlopePrior { median, sd_ln };
+    let range = Some(ThresholdRange {
+        lowest: 8.0,
+        highest: 343.0,
+    });
+    let with = |slope, threshold| QuestPlusSpec {
+        slope,
+        threshold,
+        ..QuestPlusSpec::default()
+    };
+    [
+        ("default", QuestPlusSpec::default()),
+        ("truth", with(slope(1.5, 0.25), None)),
+        ("quest", with(slope(2.43, 0.25), None)),
+        ("range", with(SlopePrior::default(), range.clone())),
+        ("range-quest", with(slope(2.43, 0.25), range)),
+    ]
+}
+
+fn procedures(prior: &QuestPlusSpec) -> Vec<(String, ProcedureSpec)> {
     let mut out = vec![(
         "constant stimuli".to_string(),
         ProcedureSpec::ConstantStimuli,
     )];
     for (goal, label) in [
         (QuestGoal::Joint, ""),
-        (QuestGoal::Threshold, ", threshold goal"),
+        (QuestGoal::Threshold, " (threshold goal)"),
     ] {
-        for n in [8, 11, 16, 24, 32] {
+        for n in [8, 10, 11, 16, 24, 32] {
             out.push((
-                format!("QUEST+ {n} per condition{label}"),
+                format!("QUEST+{label} {n} per condition"),
                 ProcedureSpec::QuestPlus(QuestPlusSpec {
                     trials: n,
                     goal,
-                    ..QuestPlusSpec::default()
+                    ..prior.clone()
                 }),
             ));
         }
@@ -116,11 +166,16 @@ fn procedures() -> Vec<(String, ProcedureSpec)> {
 
 /// The mean trials per subject, the share of main trials whose successor the app could load
 /// while the subject answers (`Procedure::after_current`), and every replication's cells.
-fn run(d: &Design, o: &Observer, reps: u64, resamples: usize) -> Result<(f64, f64, Vec<Cell>)> {
-    let dir = tempfile::tempdir()?;
+fn run(
+    d: &Design,
+    o: &Observer,
+    prior: &QuestPlusSpec,
+    reps: u64,
+    resamples: usize,
+) -> Result<(f64, f64, Vec<Cell>)> {
     let per: Vec<(usize, usize, Vec<Cell>)> = (0..reps)
         .into_par_iter()
-        .map(|r| replication(d, o, r, resamples, &dir.path().join(format!("{r}.jsonl"))))
+        .map(|r| replication(d, o, prior, r, resamples))
         .collect::<Result<_>>()?;
     let trials = per.iter().map(|p| p.0).sum::<usize>() as f64;
     let known = per.iter().map(|p| p.1).sum::<usize>() as f64;
@@ -145,14 +200,13 @@ fn known_next(d: &Design, log: &SessionLog) -> usize {
 fn replication(
     d: &Design,
     o: &Observer,
+    prior: &QuestPlusSpec,
     r: u64,
     resamples: usize,
-    path: &std::path::Path,
 ) -> Result<(usize, usize, Vec<Cell>)> {
     let (d, o) = seeded(d, o, r);
-    simulate_subject(&d, &o, "s01", path)?;
-    let ds = Dataset::read(&[path.to_path_buf()])?;
-    let log = SessionLog::read(path)?;
+    let log = simulate_subject_in_memory(&d, &o, "s01")?;
+    let ds = Dataset::from_logs(std::slice::from_ref(&log))?;
     let mut s = Settings::default();
     s.bootstrap.resamples = resamples;
     s.bootstrap.seed = r;
@@ -166,7 +220,7 @@ fn replication(
         let b = (resamples > 0).then(|| bootstrap(&f, g.key.id(), &s.bootstrap));
         let c = g.condition.as_ref().context("a condition group")?;
         let truth = own_condition_truth(&o, &d, c)?;
-        let own = Some(posterior(&d, &log, c));
+        let own = Some(posterior(&d, prior, &log, c));
         cells.push(Cell {
             truth,
             lower: b.as_ref().map_or(f64::NAN, |b| {
@@ -179,7 +233,6 @@ fn replication(
             own,
         });
     }
-    std::fs::remove_file(path)?;
     Ok((ds.trials, known_next(&d, &log), cells))
 }
 
@@ -191,12 +244,17 @@ fn own_condition_truth(o: &Observer, d: &Design, c: &[String; 3]) -> Result<f64>
     o.threshold(&cond).context("the observer has no threshold")
 }
 
-/// The QUEST+ model's posterior (default prior) from the log's trials of condition `c`: mean
+/// The QUEST+ model's posterior (under `prior`) from the log's trials of condition `c`: mean
 /// threshold and 95% interval in spp.
-fn posterior(d: &Design, log: &SessionLog, c: &[String; 3]) -> (f64, f64, f64) {
+fn posterior(
+    d: &Design,
+    prior: &QuestPlusSpec,
+    log: &SessionLog,
+    c: &[String; 3],
+) -> (f64, f64, f64) {
     let mut levels = d.file.levels.clone();
     levels.sort_unstable();
-    let mut q = QuestPlus::new(&levels, &QuestPlusSpec::default());
+    let mut q = QuestPlus::new(&levels, prior);
     for t in log.main_trials().filter(|t| {
         t.scene == c[0] && t.point_set.to_string() == c[1] && t.time_filter.to_string() == c[2]
     }) {

@@ -422,7 +422,7 @@ fn validate(f: &DesignFile) -> Result<()> {
 
 /// An adaptive procedure's own fields, and its most trials per subject.
 fn adaptive(f: &DesignFile) -> Result<()> {
-    f.procedure.validate()?;
+    f.procedure.validate(&f.levels)?;
     let p = &f.procedure;
     let conditions = [
         f.factors.scenes.len(),

@@ -16,6 +16,7 @@ pub mod frames;
 pub mod keys;
 pub mod layout;
 pub mod log;
+pub mod log_sink;
 pub mod log_writer;
 pub mod observer;
 pub mod paths;

@@ -157,6 +157,12 @@ impl SessionLog {
     pub fn read(path: &Path) -> Result<Self> {
         let bytes = std::fs::read(path)
             .with_context(|| format!("cannot read session log {}", path.display()))?;
+        Self::parse(path, bytes)
+    }
+
+    /// [`SessionLog::read`] of a log's bytes (a file's, or a [`crate::log_sink::MemoryLog`]'s);
+    /// `path` names it in messages.
+    pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<Self> {
         parse_log(path, &utf8_text(path, bytes)?)
     }
 

@@ -32,8 +32,7 @@ pub struct LogWriter {
 impl LogWriter {
     /// Start a log holding only `header`, replacing whatever is at `path`.
     pub fn create(path: &Path, header: &Header, durability: Durability) -> Result<Self> {
-        let mut line = serde_json::to_vec(&LogLine::Header(header.clone()))?;
-        line.push(b'\n');
+        let line = line_bytes(&LogLine::Header(header.clone()))?;
         renderer::atomic::write_atomic(path, &line)?;
         Self::open_append(path, durability)
     }
@@ -44,27 +43,24 @@ impl LogWriter {
     pub fn reopen(path: &Path, durability: Durability) -> Result<(Self, Option<String>)> {
         let bytes =
             std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
-        let whole = whole_lines_len(&bytes);
+        let tail = tail_of(&bytes);
         let mut warning = None;
-        if whole < bytes.len() {
-            let tail = &bytes[whole..];
+        if tail != Tail::Clean {
             let f = OpenOptions::new()
                 .write(true)
                 .open(path)
                 .with_context(|| format!("cannot open {} to repair it", path.display()))?;
-            let repaired = if serde_json::from_slice::<LogLine>(tail).is_ok() {
-                let mut f = f;
-                f.seek(SeekFrom::End(0))
-                    .and_then(|_| f.write_all(b"\n"))
-                    .and_then(|_| f.sync_all())
-            } else {
-                warning = Some(format!(
-                    "{}: removed an incomplete last line ({} bytes; the session was interrupted \
-                     while writing it, so that answer was not kept and its trial is shown again)",
-                    path.display(),
-                    tail.len()
-                ));
-                f.set_len(whole as u64).and_then(|_| f.sync_all())
+            let repaired = match tail {
+                Tail::Torn { whole } => {
+                    warning = Some(Tail::torn_warning(path, bytes.len() - whole));
+                    f.set_len(whole as u64).and_then(|_| f.sync_all())
+                }
+                _ => {
+                    let mut f = f;
+                    f.seek(SeekFrom::End(0))
+                        .and_then(|_| f.write_all(b"\n"))
+                        .and_then(|_| f.sync_all())
+                }
             };
             repaired
                 .with_context(|| format!("cannot repair the last line of {}", path.display()))?;
@@ -86,8 +82,7 @@ impl LogWriter {
 
     /// Append one line and push it to disk (per [`Durability`]) before returning.
     pub fn append(&mut self, line: &LogLine) -> Result<()> {
-        let mut bytes = serde_json::to_vec(line)?;
-        bytes.push(b'\n');
+        let bytes = line_bytes(line)?;
         self.file
             .write_all(&bytes)
             .and_then(|_| self.file.flush())
@@ -103,17 +98,59 @@ impl LogWriter {
     }
 }
 
+/// One log line's bytes: its JSON and a newline.
+pub fn line_bytes(line: &LogLine) -> Result<Vec<u8>> {
+    let mut bytes = serde_json::to_vec(line)?;
+    bytes.push(b'\n');
+    Ok(bytes)
+}
+
+/// How a log's bytes end, for reopening.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tail {
+    /// Empty, or ending in a newline.
+    Clean,
+    /// The last line is whole JSON without its newline (add it: the reader keeps the line).
+    MissingNewline,
+    /// The last line was cut off; the whole lines end at `whole`.
+    Torn { whole: usize },
+}
+
+impl Tail {
+    /// The account of a cut-off last line of `len` bytes.
+    pub fn torn_warning(log: &Path, len: usize) -> String {
+        format!(
+            "{}: removed an incomplete last line ({len} bytes; the session was interrupted \
+             while writing it, so that answer was not kept and its trial is shown again)",
+            log.display()
+        )
+    }
+}
+
+/// How `bytes` end (see [`Tail`]).
+pub fn tail_of(bytes: &[u8]) -> Tail {
+    let whole = whole_lines_len(bytes);
+    if whole == bytes.len() {
+        Tail::Clean
+    } else if serde_json::from_slice::<LogLine>(&bytes[whole..]).is_ok() {
+        Tail::MissingNewline
+    } else {
+        Tail::Torn { whole }
+    }
+}
+
 /// Length of the prefix made of whole (newline-terminated) lines.
 pub fn whole_lines_len(bytes: &[u8]) -> usize {
     bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1)
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::log::{LOG_FORMAT, SessionLog};
 
-    fn header() -> Header {
+    /// A header and a resume line for log-storage tests (`log_sink` uses them too).
+    pub(crate) fn header() -> Header {
         Header {
             format: LOG_FORMAT.into(),
             subject: "s".into(),
@@ -130,7 +167,7 @@ mod tests {
         }
     }
 
-    fn resume() -> crate::log::Resume {
+    pub(crate) fn resume() -> crate::log::Resume {
         crate::log::Resume {
             started_unix: 0.0,
             app_version: "t".into(),

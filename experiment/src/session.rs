@@ -6,18 +6,23 @@
 //! ```
 //!
 //! Screens (instructions, end of practice, breaks) are left with [`Session::advance`]; a trial
-//! is left with [`Session::answer`], which writes the trial's log line to disk before the next
-//! stage exists. [`Session::open`] on an existing log continues at the next unanswered trial of
-//! the same list, after checking that the log belongs to this subject and this exact design and
+//! is left with [`Session::answer`], which stores the trial's log line before the next stage
+//! exists. [`Session::open`] on an existing log continues at the next unanswered trial of the
+//! same list, after checking that the log belongs to this subject and this exact design and
 //! that every logged trial is the planned one.
+//!
+//! The log is behind [`LogSink`]: a file for the app and `blurlab simulate`
+//! ([`Session::open`]), memory for `plan` and other simulations that keep nothing on disk
+//! ([`Session::open_with`] and a [`crate::log_sink::MemoryLog`]).
 
 use crate::design::{Design, Task};
 use crate::log::{Display, Header, LOG_FORMAT, LogLine, Resume, SessionLog, TrialRecord};
-use crate::log_writer::{Durability, LogWriter, whole_lines_len};
+use crate::log_sink::{FileLog, LogSink};
+use crate::log_writer::{Durability, whole_lines_len};
 use crate::procedure::{self, Procedure, TrackEstimate};
 use crate::trials::{self, Trial, TrialPlan};
 use anyhow::{Result, bail};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Where a session is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,11 +76,11 @@ pub struct Session {
     plan: TrialPlan,
     /// Gives the main trials, one at a time, from the answers so far.
     procedure: Box<dyn Procedure>,
-    log_path: PathBuf,
+    log: Box<dyn LogSink>,
     /// The log found at `open`, if it had a header.
     existing: Option<SessionLog>,
-    writer: Option<LogWriter>,
-    durability: Durability,
+    /// The header or the resume line is written.
+    started: bool,
     practice_done: usize,
     main_done: usize,
     stage: Stage,
@@ -100,13 +105,23 @@ pub fn check_subject(subject: &str) -> Result<()> {
 }
 
 impl Session {
-    /// Prepare a session, reading `log_path` if it exists (nothing is written yet).
+    /// Prepare a session logged to the file `log_path`, reading it if it exists (nothing is
+    /// written yet).
     pub fn open(
         design: &Design,
         subject: &str,
         log_path: &Path,
         durability: Durability,
     ) -> Result<Self> {
+        Self::open_with(
+            design,
+            subject,
+            Box::new(FileLog::new(log_path, durability)),
+        )
+    }
+
+    /// Prepare a session logged to `log`, reading what it holds (nothing is written yet).
+    pub fn open_with(design: &Design, subject: &str, log: Box<dyn LogSink>) -> Result<Self> {
         check_subject(subject)?;
         if design.file.task != Task::TwoPair {
             bail!(
@@ -122,25 +137,23 @@ impl Session {
             subject: subject.to_string(),
             plan,
             procedure: procedure::start(design, subject),
-            log_path: log_path.to_path_buf(),
+            log,
             existing: None,
-            writer: None,
-            durability,
+            started: false,
             practice_done: 0,
             main_done: 0,
             stage: Stage::Instructions,
             warnings: Vec::new(),
         };
-        if log_path.exists() {
-            s.read_existing()?;
+        if let Some(bytes) = s.log.existing()? {
+            s.read_existing(bytes)?;
         }
         Ok(s)
     }
 
-    fn read_existing(&mut self) -> Result<()> {
-        let path = &self.log_path;
-        let bytes = std::fs::read(path)
-            .map_err(|e| anyhow::anyhow!("cannot read session log {}: {e}", path.display()))?;
+    fn read_existing(&mut self, bytes: Vec<u8>) -> Result<()> {
+        let path = self.log.name().to_path_buf();
+        let path = &path;
         if whole_lines_len(&bytes) == 0 {
             // Not even the header is whole (it is written atomically, so only an outside
             // truncation does this): nothing was answered, start afresh.
@@ -150,7 +163,7 @@ impl Session {
             ));
             return Ok(());
         }
-        let log = SessionLog::read(path)?;
+        let log = SessionLog::parse(path, bytes)?;
         let h = &log.header;
         if h.subject != self.subject {
             bail!(
@@ -215,8 +228,8 @@ impl Session {
     /// Write the header (new log) or a resume line (continued log); the session is then at
     /// its instructions screen.
     pub fn start(&mut self, info: StartInfo) -> Result<()> {
-        if self.writer.is_some() {
-            bail!("session {} already started", self.log_path.display());
+        if self.started {
+            bail!("session {} already started", self.log.name().display());
         }
         if let Some(log) = &self.existing {
             if log.header.mode != info.mode {
@@ -224,19 +237,18 @@ impl Session {
                     "{}: field `mode` is {:?}, but this session is {:?}: a log holds one \
                      kind of answers (a person's or a simulated observer's), and `analyze` \
                      must not mix them. Write this session to another folder",
-                    self.log_path.display(),
+                    self.log.name().display(),
                     log.header.mode,
                     info.mode
                 );
             }
-            let (mut w, warning) = LogWriter::reopen(&self.log_path, self.durability)?;
-            if let Some(warning) = warning {
+            if let Some(warning) = self.log.reopen()? {
                 // The writer's account of the torn line (what it removed) replaces the reader's.
                 self.warnings
                     .retain(|x| !x.contains("incomplete last line"));
                 self.warnings.push(warning);
             }
-            w.append(&LogLine::Resume(Resume {
+            self.log.append(&LogLine::Resume(Resume {
                 started_unix: info.started_unix,
                 app_version: app_version(),
                 practice_done: self.practice_done as u32,
@@ -244,7 +256,6 @@ impl Session {
                 display: info.display,
                 warnings: self.warnings.clone(),
             }))?;
-            self.writer = Some(w);
         } else {
             let header = Header {
                 format: LOG_FORMAT.into(),
@@ -260,8 +271,9 @@ impl Session {
                 display: info.display,
                 observer: info.observer,
             };
-            self.writer = Some(LogWriter::create(&self.log_path, &header, self.durability)?);
+            self.log.create(&header)?;
         }
+        self.started = true;
         self.stage = Stage::Instructions;
         Ok(())
     }
@@ -314,8 +326,8 @@ impl Session {
         }
     }
 
-    /// Record the subject's answer (pair 1 or 2) to the current trial. The log line is on disk
-    /// when this returns; then the session moves on.
+    /// Record the subject's answer (pair 1 or 2) to the current trial. The log line is stored
+    /// (on disk, for a file log) when this returns; then the session moves on.
     pub fn answer(&mut self, response: u8, timing: Timing) -> Result<Answered> {
         let Some(trial) = self.trial() else {
             bail!("no trial is being presented (stage {:?})", self.stage);
@@ -328,10 +340,10 @@ impl Session {
             correct: record.correct,
             practice: record.practice,
         };
-        let Some(writer) = self.writer.as_mut() else {
+        if !self.started {
             bail!("session not started: call start() before answering");
-        };
-        writer.append(&LogLine::Trial(record))?;
+        }
+        self.log.append(&LogLine::Trial(record))?;
         self.stage = if answered.practice {
             self.practice_done += 1;
             if self.practice_done < self.plan.practice.len() {
@@ -399,8 +411,9 @@ impl Session {
         &self.subject
     }
 
+    /// The log's file (a memory log's name).
     pub fn log_path(&self) -> &Path {
-        &self.log_path
+        self.log.name()
     }
 }
 

@@ -1,8 +1,12 @@
 //! Simulated subjects: the real session machine and log writer, answered by an [`Observer`].
 //! Logs are a pure function of the design, the observer and the subject names (the header's
-//! start time is 0), so a simulation rerun gives byte-identical files.
+//! start time is 0), so a simulation rerun gives byte-identical files. [`simulate`] writes log
+//! files (`blurlab simulate`); [`simulate_in_memory`] keeps the same bytes in memory
+//! ([`MemoryLog`]) and reads them back, for `plan` and other runs that need no files.
 
 use crate::design::Design;
+use crate::log::SessionLog;
+use crate::log_sink::{LogSink, MemoryLog};
 use crate::log_writer::Durability;
 use crate::observer::Observer;
 use crate::session::{Session, Stage, StartInfo, Timing};
@@ -50,7 +54,51 @@ pub fn simulate_subject(
         refuse_a_persons_log(path)?;
         std::fs::remove_file(path).with_context(|| format!("cannot replace {}", path.display()))?;
     }
-    let mut session = Session::open(design, subject, path, Durability::Flush)?;
+    let session = Session::open(design, subject, path, Durability::Flush)?;
+    run(session, observer)
+}
+
+/// [`simulate`] into memory: the subjects' logs, read back, in the order a folder of their
+/// files is read (by file name). Nothing touches the file system.
+pub fn simulate_in_memory(
+    design: &Design,
+    observer: &Observer,
+    subjects: usize,
+) -> Result<Vec<SessionLog>> {
+    let most = renderer::limits::MAX_SUBJECTS as u64;
+    renderer::limits::check_count("the number of subjects", subjects as u64, 1, most)?;
+    observer.check_covers(design)?;
+    let mut logs: Vec<SessionLog> = (0..subjects)
+        .into_par_iter()
+        .map(|i| simulate_subject_in_memory(design, observer, &subject_name(i)))
+        .collect::<Result<_>>()?;
+    logs.sort_by(|a, b| a.path.cmp(&b.path));
+    Ok(logs)
+}
+
+/// One simulated subject's whole session in a [`MemoryLog`] named `<subject>.jsonl`, read back.
+pub fn simulate_subject_in_memory(
+    design: &Design,
+    observer: &Observer,
+    subject: &str,
+) -> Result<SessionLog> {
+    let log = MemoryLog::new(&format!("{subject}.jsonl"));
+    simulate_subject_to(design, observer, subject, Box::new(log.clone()))?;
+    SessionLog::parse(log.name(), log.bytes())
+}
+
+/// One simulated subject's whole session into `log`, which must hold no session yet.
+pub fn simulate_subject_to(
+    design: &Design,
+    observer: &Observer,
+    subject: &str,
+    log: Box<dyn LogSink>,
+) -> Result<()> {
+    run(Session::open_with(design, subject, log)?, observer)
+}
+
+/// Start a fresh simulated session (time 0) and answer it to its end.
+fn run(mut session: Session, observer: &Observer) -> Result<()> {
     session.start(StartInfo {
         mode: "simulated".into(),
         display: None,

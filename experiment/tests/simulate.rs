@@ -3,7 +3,8 @@
 //! that follow the observer's psychometric function.
 
 use experiment::log::SessionLog;
-use experiment::simulate::simulate;
+use experiment::log_sink::MemoryLog;
+use experiment::simulate::{simulate, simulate_in_memory, simulate_subject_to};
 use experiment::trials::plan;
 use experiment::{Design, Observer};
 use std::path::Path;
@@ -148,4 +149,30 @@ fn a_log_of_another_mode_is_neither_continued_nor_replaced() {
         "{e}"
     );
     assert_eq!(std::fs::read_to_string(&log).unwrap(), persons);
+}
+
+/// The memory log holds the bytes the file log writes, and `simulate_in_memory` returns the
+/// logs in the order a folder of their files is read (`s10` < `s100` < `s11`), so `plan`'s
+/// datasets are those of the file route.
+#[test]
+fn memory_logs_are_the_files_bytes_in_the_folders_order() {
+    let design = Design::load(&repo("scenes/designs/thesis.json")).unwrap();
+    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let paths = simulate(&design, &observer, 101, dir.path()).unwrap();
+    let mut by_name = paths.clone();
+    by_name.sort();
+    let memory = simulate_in_memory(&design, &observer, 101).unwrap();
+    assert_eq!(memory.len(), 101);
+    for (file, log) in by_name.iter().zip(&memory) {
+        assert_eq!(file.file_name(), log.path.file_name());
+        assert_eq!(log.trials, SessionLog::read(file).unwrap().trials);
+    }
+    assert_eq!(memory[10].header.subject, "s100");
+    for (i, path) in paths.iter().enumerate().step_by(25) {
+        let subject = format!("s{:02}", i + 1);
+        let log = MemoryLog::new(&format!("{subject}.jsonl"));
+        simulate_subject_to(&design, &observer, &subject, Box::new(log.clone())).unwrap();
+        assert_eq!(log.bytes(), std::fs::read(path).unwrap(), "{subject}");
+    }
 }

@@ -1,8 +1,9 @@
 //! One replication of a study: the design and the observer reseeded for replication r (trial
 //! orders from design master seed + r, subjects and answers from observer seed + r, bootstrap
-//! seed + r), simulated subjects through the experiment's session machine and log writer
-//! (`experiment::simulate`) into a temporary folder, read back by the analysis
-//! (`Dataset::read`), pooled fits with bootstrap intervals and the t-tests. The parameter
+//! seed + r), simulated subjects through the experiment's session machine into logs kept in
+//! memory (`experiment::simulate::simulate_in_memory`: the bytes `blurlab simulate` writes, no
+//! temporary files), read back by the analysis (`Dataset::from_logs`, the checks of
+//! `Dataset::read`), pooled fits with bootstrap intervals and the t-tests. The parameter
 //! recovery tests (`tests/recovery.rs`) run exactly this function.
 
 use crate::bootstrap::{BootstrapResult, bootstrap};
@@ -10,8 +11,8 @@ use crate::comparisons::{Comparison, compare};
 use crate::data::{Dataset, GroupKey, Grouping};
 use crate::psychometric::fit;
 use crate::report::Settings;
-use anyhow::{Context, Result};
-use experiment::simulate::simulate;
+use anyhow::Result;
+use experiment::simulate::simulate_in_memory;
 use experiment::{Design, Observer};
 
 /// What a replication analyses.
@@ -51,13 +52,7 @@ pub fn replicate(
     s: &ReplicationSettings,
 ) -> Result<(Replication, Dataset)> {
     let (design, observer) = seeded(design, observer, r);
-    let dir = tempfile::Builder::new()
-        .prefix("blurlab-replication-")
-        .tempdir()
-        .context("cannot create a temporary folder for simulated sessions")?;
-    let sessions = dir.path().join("sessions");
-    simulate(&design, &observer, subjects, &sessions)?;
-    let ds = Dataset::read(&[sessions])?;
+    let ds = Dataset::from_logs(&simulate_in_memory(&design, &observer, subjects)?)?;
     let mut analysis = s.analysis.clone();
     analysis.bootstrap.seed = analysis.bootstrap.seed.wrapping_add(r);
     let pooled = ds

@@ -17,7 +17,9 @@ pub mod staircase;
 use crate::design::Design;
 use crate::log::TrialRecord;
 use crate::trials::{self, Trial};
-pub use spec::{ProcedureSpec, QuestPlusSpec, SlopePrior, StairRule, StaircaseSpec};
+pub use spec::{
+    ProcedureSpec, QuestPlusSpec, SlopePrior, StairRule, StaircaseSpec, ThresholdRange,
+};
 
 /// One subject's main trials, chosen as the answers come in.
 pub trait Procedure: std::fmt::Debug + Send {
@@ -127,6 +129,14 @@ pub(crate) mod tests {
             (
                 r#"{"quest_plus": {"stop_width": -1}}"#,
                 "procedure.quest_plus.stop_width",
+            ),
+            (
+                r#"{"quest_plus": {"threshold": {"lowest": 27, "highest": 8}}}"#,
+                "procedure.quest_plus.threshold",
+            ),
+            (
+                r#"{"quest_plus": {"threshold": {"lowest": 0.1, "highest": 8}}}"#,
+                "procedure.quest_plus.threshold",
             ),
             (
                 r#"{"staircase": {"interleaved": 0}}"#,

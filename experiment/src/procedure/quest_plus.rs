@@ -6,11 +6,12 @@
 //!
 //! Choices the paper leaves to the user (docs/experiment.md): the threshold grid spans ln spp
 //! from one below the lowest level to one above the highest in steps of 0.05 with a flat prior
-//! (a threshold outside the rendered levels is only known to be outside); the slope grid has 9
+//! (a threshold outside the rendered levels is only known to be outside), or flat over the
+//! spec's `threshold` range and 0 outside it; the slope grid has 9
 //! values at the prior median x e^(sd z), z = -2 ... 2, weighted by the normal density of z.
 
 use super::interleave::{Interleaved, Track};
-use super::spec::{QuestGoal, QuestPlusSpec};
+use super::spec::{QuestGoal, QuestPlusSpec, ThresholdRange};
 use crate::design::Design;
 use crate::observer::{TARGET, p_correct};
 
@@ -44,8 +45,7 @@ pub struct QuestPlus {
 impl QuestPlus {
     /// The prior over the grid for levels sorted ascending.
     pub fn new(levels: &[u32], spec: &QuestPlusSpec) -> Self {
-        let lo = (levels[0] as f64).ln() - 1.0;
-        let hi = (levels[levels.len() - 1] as f64).ln() + 1.0;
+        let (lo, hi) = grid_range(levels);
         let n = ((hi - lo) / THETA_STEP).round() as usize + 1;
         let thetas: Vec<f64> = (0..n).map(|j| lo + j as f64 * THETA_STEP).collect();
         let zs: Vec<f64> = (0..SLOPES)
@@ -57,8 +57,9 @@ impl QuestPlus {
             .collect();
         let weights: Vec<f64> = zs.iter().map(|z| (-0.5 * z * z).exp()).collect();
         let mut posterior = Vec::with_capacity(n * SLOPES);
-        for _ in &thetas {
-            posterior.extend_from_slice(&weights);
+        for &t in &thetas {
+            let inside = spec.threshold.as_ref().is_none_or(|r| in_range(r, t));
+            posterior.extend(weights.iter().map(|w| if inside { *w } else { 0.0 }));
         }
         normalise(&mut posterior);
         let likelihood = levels
@@ -177,6 +178,20 @@ impl Track for QuestPlus {
             TARGET,
         )
     }
+}
+
+/// The threshold grid's ends (ln spp) for levels sorted ascending: a factor e beyond them.
+pub fn grid_range(levels: &[u32]) -> (f64, f64) {
+    let lowest = levels.iter().min().copied().unwrap_or(1);
+    let highest = levels.iter().max().copied().unwrap_or(1);
+    ((lowest as f64).ln() - 1.0, (highest as f64).ln() + 1.0)
+}
+
+/// A grid point inside a threshold range (half a grid step of tolerance, so an end given as a
+/// level keeps its grid point despite rounding).
+fn in_range(r: &ThresholdRange, theta: f64) -> bool {
+    let tolerance = 0.5 * THETA_STEP;
+    r.lowest.ln() - tolerance <= theta && theta <= r.highest.ln() + tolerance
 }
 
 fn normalise(p: &mut [f64]) {
@@ -363,6 +378,34 @@ mod tests {
         let mean = errors.iter().sum::<f64>() / n as f64;
         let sd = (errors.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt();
         assert!(mean.abs() < 3.0 * sd / (n as f64).sqrt(), "{mean} +- {sd}");
+    }
+
+    /// A threshold range is the prior's support: flat inside (ends included), 0 outside, and
+    /// no answer moves mass outside it.
+    #[test]
+    fn a_threshold_range_is_the_priors_support() {
+        let levels = [1, 8, 27, 64, 125, 216, 343, 512];
+        let spec = QuestPlusSpec {
+            threshold: Some(ThresholdRange {
+                lowest: 8.0,
+                highest: 64.0,
+            }),
+            ..spec()
+        };
+        let mut q = QuestPlus::new(&levels, &spec);
+        let inside = |t: f64| (8f64.ln() - 0.025..=64f64.ln() + 0.025).contains(&t);
+        let m = q.theta_marginal();
+        let mass = m.iter().filter(|&&p| p > 0.0).count();
+        assert_eq!(mass, q.thetas.iter().filter(|&&t| inside(t)).count());
+        for (p, &t) in m.iter().zip(&q.thetas) {
+            let want = if inside(t) { 1.0 / mass as f64 } else { 0.0 };
+            assert!((p - want).abs() < 1e-15, "{t}: {p}");
+        }
+        for (i, correct) in [(0, false), (7, true), (3, false)] {
+            q.update(i, correct);
+        }
+        let (mean, lo, hi) = q.ln_threshold();
+        assert!(inside(lo) && inside(hi) && inside(mean), "{lo} {mean} {hi}");
     }
 
     #[test]

@@ -54,8 +54,8 @@ impl ProcedureSpec {
         }
     }
 
-    /// Checks of the fields; the message names the field.
-    pub fn validate(&self) -> Result<()> {
+    /// Checks of the fields against the design's `levels`; the message names the field.
+    pub fn validate(&self, levels: &[u32]) -> Result<()> {
         let trials = self.trials_per_track();
         if !self.is_constant() && !(1..=MAX_TRACK_TRIALS).contains(&trials) {
             bail!(
@@ -66,7 +66,7 @@ impl ProcedureSpec {
         }
         match self {
             ProcedureSpec::ConstantStimuli => Ok(()),
-            ProcedureSpec::QuestPlus(q) => q.validate(),
+            ProcedureSpec::QuestPlus(q) => q.validate(levels),
             ProcedureSpec::Staircase(s) => s.validate(),
         }
     }
@@ -88,6 +88,10 @@ pub struct QuestPlusSpec {
     pub lapse: f64,
     /// Log-normal prior of the slope (per ln spp).
     pub slope: SlopePrior,
+    /// The threshold's prior: flat in ln spp between these levels (spp), nothing outside.
+    /// Absent: flat from one below ln(lowest level) to one above ln(highest level).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub threshold: Option<ThresholdRange>,
     /// What the placement of trials aims to learn.
     #[serde(skip_serializing_if = "QuestGoal::is_joint")]
     pub goal: QuestGoal,
@@ -119,13 +123,14 @@ impl Default for QuestPlusSpec {
             stop_width: None,
             lapse: 0.02,
             slope: SlopePrior::default(),
+            threshold: None,
             goal: QuestGoal::Joint,
         }
     }
 }
 
 impl QuestPlusSpec {
-    fn validate(&self) -> Result<()> {
+    fn validate(&self, levels: &[u32]) -> Result<()> {
         if !(0.0..0.25).contains(&self.lapse) {
             bail!(
                 "field `procedure.quest_plus.lapse` is {}; expected 0 <= lapse < 0.25",
@@ -148,6 +153,35 @@ impl QuestPlusSpec {
             bail!(
                 "field `procedure.quest_plus.slope.sd_ln` is {}; expected 0 to 3",
                 s.sd_ln
+            );
+        }
+        if let Some(t) = &self.threshold {
+            t.validate(levels)?;
+        }
+        Ok(())
+    }
+}
+
+/// A range of thresholds (spp), ends included.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ThresholdRange {
+    pub lowest: f64,
+    pub highest: f64,
+}
+
+impl ThresholdRange {
+    /// The range must hold a point of the threshold grid, which spans the levels and a factor
+    /// e beyond them (`quest_plus::grid_range`).
+    fn validate(&self, levels: &[u32]) -> Result<()> {
+        let (lo, hi) = (self.lowest, self.highest);
+        let (grid_lo, grid_hi) = super::quest_plus::grid_range(levels);
+        let (grid_lo, grid_hi) = (grid_lo.exp(), grid_hi.exp());
+        if !(lo.is_finite() && hi.is_finite() && grid_lo <= lo && lo < hi && hi <= grid_hi) {
+            bail!(
+                "field `procedure.quest_plus.threshold` is {{\"lowest\": {lo}, \"highest\": \
+                 {hi}}}; expected {grid_lo:.3} <= lowest < highest <= {grid_hi:.1} spp (the \
+                 levels and a factor e beyond them)"
             );
         }
         Ok(())
