@@ -12,7 +12,8 @@
 //!
 //! [`TriangleMesh::new`]: crate::geometry::TriangleMesh::new
 
-use super::packet::SmallWorld;
+use super::cull::CullBox;
+use super::packet::{RayPacket, SmallWorld};
 use super::pose::{Pose, PoseCache, PoseOverTime};
 use super::swept::swept_bounds;
 use super::{Instance, SurfaceHit};
@@ -36,6 +37,8 @@ pub struct World {
     shutter: (f32, f32),
     /// The packet form, for a world of a few spheres and planes ([`SmallWorld`]).
     small: Option<SmallWorld>,
+    /// One box around every surface in the shutter, for culling packets' rays ([`CullBox`]).
+    cull: Option<CullBox>,
 }
 
 impl std::fmt::Debug for World {
@@ -87,6 +90,11 @@ impl World {
             ))
         };
         let small = SmallWorld::new(&instances, &poses);
+        let padded: Vec<Bounds> = bounded
+            .iter()
+            .map(|&i| pad_top_level(swept[i as usize], scene.diagonal()))
+            .collect();
+        let cull = CullBox::new(&padded, !unbounded.is_empty(), shutter);
         Self {
             instances,
             poses,
@@ -95,6 +103,17 @@ impl World {
             unbounded,
             shutter,
             small,
+            cull,
+        }
+    }
+
+    /// The lanes of `live` whose ray may hit something: the others' rays surely hit nothing
+    /// ([`CullBox`]; with no box, all of `live`).
+    #[inline]
+    pub fn may_hit_lanes(&self, ray: &RayPacket, live: u32) -> u32 {
+        match &self.cull {
+            Some(c) => c.may_hit(ray, live),
+            None => live,
         }
     }
 

@@ -49,14 +49,19 @@ impl Tracer<'_> {
     }
 
     /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` of `live`, for worlds without a
-    /// packet form (meshes, spinning instances): the camera rays were made in lanes, each lane
-    /// is intersected and shaded by the scalar path, the lanes that miss look up the
-    /// environment together, and the radiances are summed in lanes.
+    /// packet form (meshes, spinning instances): the camera rays were made in lanes, the lanes
+    /// whose rays miss the world's box are culled together ([`World::may_hit_lanes`]), each
+    /// other lane is intersected and shaded by the scalar path, the lanes that miss look up
+    /// the environment together, and the radiances are summed in lanes.
+    ///
+    /// [`World::may_hit_lanes`]: crate::accel::World::may_hit_lanes
     pub fn radiance_lanes(&self, ray: &RayPacket, live: u32) -> V3 {
         let mut out = [Lane::ZERO; 3];
-        let mut missed = 0;
         self.count(live);
-        for i in lanes(live) {
+        // Rays that surely hit nothing see the sky without the scalar path's walk.
+        let maybe = self.world.may_hit_lanes(ray, live);
+        let mut missed = live & !maybe;
+        for i in lanes(maybe) {
             let r = ray.lane(i);
             match self.world.intersect_cached(&r, &self.poses) {
                 Some(hit) => set(&mut out, i, self.shade(&r, &hit, 0)),
