@@ -134,6 +134,11 @@ pub enum Layout {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct Playback {
+    /// Playback rate, frames per second; absent: each video's own rate from the manifest (the
+    /// renderer's 30 fps). The thesis gives none; its session length fits about 15 fps or
+    /// looped videos (docs/replication.md), so the rate is a factor of the design.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fps: Option<f64>,
     /// Times each pair's video plays through.
     pub loops: u32,
     /// Fixation cross before the first pair, milliseconds.
@@ -149,12 +154,21 @@ pub struct Playback {
 impl Default for Playback {
     fn default() -> Self {
         Self {
+            fps: None,
             loops: 1,
             fixation_ms: 500,
             gap_ms: 1000,
             spacing_px: 32,
             background: [0, 0, 0],
         }
+    }
+}
+
+impl Playback {
+    /// The rate a video whose manifest says `manifest_fps` plays at: the design's
+    /// `playback.fps` when given, else the manifest's.
+    pub fn rate(&self, manifest_fps: f64) -> f64 {
+        self.fps.unwrap_or(manifest_fps)
     }
 }
 
@@ -445,7 +459,19 @@ fn adaptive(f: &DesignFile) -> Result<()> {
     Ok(())
 }
 
+/// Fastest playback rate a design may ask for: beyond 240 Hz no common display shows every
+/// frame, so frame pacing could not hold.
+pub const MAX_PLAYBACK_FPS: f64 = 240.0;
+
 fn playback(p: &Playback) -> Result<()> {
+    if let Some(fps) = p.fps
+        && !(1.0..=MAX_PLAYBACK_FPS).contains(&fps)
+    {
+        bail!(
+            "field `playback.fps` is {fps}; expected frames per second from 1 to \
+             {MAX_PLAYBACK_FPS}"
+        );
+    }
     if !(1..=100).contains(&p.loops) {
         bail!("field `playback.loops` is {}; expected 1 to 100", p.loops);
     }
@@ -646,6 +672,14 @@ pub(crate) mod tests {
             (
                 edit(|v| v["playback"] = serde_json::json!({"loops": 0})),
                 "`playback.loops`",
+            ),
+            (
+                edit(|v| v["playback"] = serde_json::json!({"fps": 0.5})),
+                "`playback.fps`",
+            ),
+            (
+                edit(|v| v["playback"] = serde_json::json!({"fps": 1000})),
+                "`playback.fps`",
             ),
             (edit(|v| v["surprise"] = 1.into()), "surprise"),
             (

@@ -36,6 +36,12 @@ impl VideoSource {
         })
     }
 
+    /// The same video at the rate `design` plays it ([`crate::design::Playback::rate`]).
+    pub fn played_by(mut self, design: &crate::Design) -> Self {
+        self.fps = design.file.playback.rate(self.fps);
+        self
+    }
+
     pub fn frames(&self) -> u32 {
         self.frame_paths.len() as u32
     }

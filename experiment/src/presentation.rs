@@ -64,7 +64,8 @@ pub struct Presentation {
 }
 
 impl Presentation {
-    /// A presentation of videos with `frames` frames at `fps` under the design's playback.
+    /// A presentation of videos with `frames` frames made at `fps` (the manifest's rate) under
+    /// the design's playback, which plays them at its own rate when it gives one.
     pub fn new(design: &Design, frames: u32, fps: f64) -> Self {
         let p = &design.file.playback;
         let fixation = Step::Fixation(p.fixation_ms as f64 / 1000.0);
@@ -83,7 +84,7 @@ impl Presentation {
             current: 0,
             step_start: None,
             frames: frames.max(1),
-            fps,
+            fps: p.rate(fps),
             loops: p.loops,
             last_index: None,
             onsets_ms: Vec::new(),
@@ -324,6 +325,37 @@ mod tests {
         assert_eq!(both, vec![0, 1, 2, 0, 1, 2]);
         assert_eq!(p.timing(0.0, 0, 0.0).onsets_ms.len(), 1);
         assert!(!views.contains(&View::Gap));
+    }
+
+    #[test]
+    fn the_design_s_rate_replaces_the_manifest_s_and_loops_repeat_at_it() {
+        // 15 fps (the thesis's session length) for 30-fps videos, two loops: at 64 Hz repaints
+        // (binary-exact, so floor() sees no rounding) the frame shown at t is floor(t * 15).
+        let mut v: serde_json::Value = serde_json::from_str(crate::design::tests::SMALL).unwrap();
+        v["layout"] = "grid".into();
+        v["playback"] = serde_json::json!({"fps": 15.0, "loops": 2});
+        let d = Design::parse(std::path::Path::new("d.json"), &v.to_string()).unwrap();
+        let dt = 1.0 / 64.0;
+        let (views, p, _) = run(&d, 4, 30.0, dt);
+        let shown: Vec<u32> = views
+            .iter()
+            .filter_map(|v| match v {
+                View::Play { frame, .. } => Some(*frame),
+                _ => None,
+            })
+            .collect();
+        // 8 frames (4 x 2 loops) of 1/15 s: 8 / 15 s = 34.13 repaints.
+        let expected: Vec<u32> = (0..35)
+            .map(|i| ((i as f64 * dt * 15.0).floor() as u32) % 4)
+            .collect();
+        assert_eq!(shown, expected);
+        assert_eq!(p.timing(0.0, 0, 0.0).dropped_frames, 0);
+        // Without the field the manifest's rate plays.
+        let (views, _, _) = run(&small(), 4, 30.0, dt);
+        assert_eq!(
+            frames_of(&views, 1).len(),
+            (4.0_f64 * 64.0 / 30.0).ceil() as usize
+        );
     }
 
     #[test]

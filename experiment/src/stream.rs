@@ -29,7 +29,7 @@ pub struct Due {
 }
 
 /// Seconds from `trial`'s start to the first frame of `stimulus` (videos of `frames` frames
-/// at `fps`): the fixation, and for a video only pair 2 shows in the sequential layout, pair 1's
+/// made at `fps`, played at the design's rate): the fixation, and for a video only pair 2 shows in the sequential layout, pair 1's
 /// playback and the gap as well.
 pub fn first_shown_s(design: &Design, trial: &Trial, stimulus: &str, frames: u32, fps: f64) -> f64 {
     let p = &design.file.playback;
@@ -40,7 +40,7 @@ pub fn first_shown_s(design: &Design, trial: &Trial, stimulus: &str, frames: u32
     if in_pair_1 || design.file.layout == Layout::Grid {
         fixation
     } else {
-        fixation + (p.loops * frames) as f64 / fps + p.gap_ms as f64 / 1000.0
+        fixation + (p.loops * frames) as f64 / p.rate(fps) + p.gap_ms as f64 / 1000.0
     }
 }
 

@@ -9,6 +9,7 @@
 //! analysis turn `tracer` off, so they do not compile the ray tracer.
 
 // The light core.
+pub mod assets;
 pub mod atomic;
 pub mod condition;
 pub mod hash;

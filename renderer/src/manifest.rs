@@ -22,6 +22,10 @@ pub struct Manifest {
     pub job: String,
     /// One entry per rendered video, references included.
     pub stimuli: Vec<Stimulus>,
+    /// The user's files rendered in place of the scenes' own (`render job --asset`), by name
+    /// and SHA-256; absent when the scenes' own files were used.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub assets: Vec<crate::assets::AssetRecord>,
 }
 
 /// One rendered video.
@@ -105,6 +109,7 @@ impl Manifest {
             format: MANIFEST_FORMAT.to_string(),
             job: job.to_string(),
             stimuli: Vec::new(),
+            assets: Vec::new(),
         }
     }
 

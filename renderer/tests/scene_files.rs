@@ -271,7 +271,7 @@ fn a_job_renders_a_real_scene_with_its_overrides() {
         first_frame: Some(1),
         ..Default::default()
     };
-    let src = load_source(&path, &overrides).unwrap();
+    let src = load_source(&path, &overrides, &Default::default(), &mut vec![]).unwrap();
     let setup = src.setup();
     assert_eq!((setup.width, setup.height, setup.frames), (6, 4, 2));
     assert_eq!(setup.fps, 30.0);
@@ -295,7 +295,12 @@ fn a_job_renders_a_real_scene_with_its_overrides() {
         frames: Some(3),
         ..overrides
     };
-    let err = format!("{:#}", load_source(&path, &too_long).err().unwrap());
+    let err = format!(
+        "{:#}",
+        load_source(&path, &too_long, &Default::default(), &mut vec![])
+            .err()
+            .unwrap()
+    );
     assert!(
         err.contains("scene.json") && err.contains("settings.frames"),
         "{err}"

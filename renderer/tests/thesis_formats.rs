@@ -342,8 +342,12 @@ fn a_json_job_may_name_text_scenes_and_a_text_job_may_name_json_scenes() {
     );
     assert!(matches!(a.reference, Reference::Independent(_)));
     // The same scene in either format renders the same pixels.
-    let sources_a = renderer::job::scene_source::load_sources(&a).unwrap();
-    let sources_b = renderer::job::scene_source::load_sources(&b).unwrap();
+    let sources_a = renderer::job::scene_source::load_sources(&a)
+        .unwrap()
+        .sources;
+    let sources_b = renderer::job::scene_source::load_sources(&b)
+        .unwrap()
+        .sources;
     let sampling = SamplingConfig {
         spp: 2,
         ..Default::default()

@@ -21,12 +21,13 @@ pub struct SessionDuration {
     pub session_seconds: f64,
 }
 
-/// The longest video of the design's manifest, if the manifest can be read.
+/// The longest video of the design's manifest at the design's playback rate, if the manifest
+/// can be read.
 pub fn manifest_video_seconds(design: &Design) -> Option<f64> {
     let m = Manifest::load(&design.manifest_path).ok()?;
     m.stimuli
         .iter()
-        .map(|s| s.frames as f64 / s.fps)
+        .map(|s| s.frames as f64 / design.file.playback.rate(s.fps))
         .max_by(f64::total_cmp)
 }
 
@@ -76,5 +77,45 @@ mod tests {
         assert_eq!((s.trials, s.breaks), (196, 3));
         assert!((s.trial_seconds - 17.5).abs() < 1e-12);
         assert!((s.session_seconds - (196.0 * 17.5 + 180.0)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_design_s_playback_rate_sets_the_videos_length() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut m = Manifest::new("t");
+        m.stimuli.push(renderer::manifest::Stimulus {
+            id: "plane-reference".into(),
+            scene: "plane".into(),
+            point_set: renderer::condition::PointSetKind::Stratified,
+            time_filter: renderer::condition::TimeFilter::TruncatedBox,
+            spp: 512,
+            reference: true,
+            reference_id: None,
+            seed: 1,
+            width: 4,
+            height: 4,
+            frames: 210,
+            fps: 30.0,
+            frame_paths: vec![],
+            exr_paths: vec![],
+            content_hash: String::new(),
+            render_seconds: 0.0,
+            error: None,
+        });
+        let path = dir.path().join("manifest.json");
+        std::fs::write(&path, serde_json::to_string(&m).unwrap()).unwrap();
+        let mut d = Design::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/designs/thesis.json"),
+        )
+        .unwrap();
+        d.manifest_path = path;
+        // The manifest's rate: 210 frames at 30 fps.
+        assert_eq!(manifest_video_seconds(&d), Some(7.0));
+        // The design's: 210 frames at 15 fps; with two loops a trial plays each pair twice.
+        d.file.playback.fps = Some(15.0);
+        d.file.playback.loops = 2;
+        assert_eq!(manifest_video_seconds(&d), Some(14.0));
+        let s = session(&d, 14.0, 2.0, 60.0);
+        assert!((s.trial_seconds - (0.5 + 2.0 * 2.0 * 14.0 + 1.0 + 2.0)).abs() < 1e-12);
     }
 }

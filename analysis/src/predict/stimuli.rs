@@ -160,7 +160,14 @@ pub fn predict(
     ids.dedup();
     super::preflight::check(&manifest, manifest_path, &ids)?;
     let display = Display::new(&s.display);
-    let video = |id: &str| VideoSource::from_manifest(&manifest, manifest_path, id);
+    // Each video at the rate the design plays it (`playback.fps`), else the manifest's.
+    let video = |id: &str| {
+        let v = VideoSource::from_manifest(&manifest, manifest_path, id)?;
+        Ok::<_, anyhow::Error>(match design {
+            Some(d) => v.played_by(d),
+            None => v,
+        })
+    };
     let mut references: Vec<&str> = pairs.iter().map(|p| p.reference.as_str()).collect();
     references.sort_unstable();
     references.dedup();

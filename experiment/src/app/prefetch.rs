@@ -82,11 +82,8 @@ impl VideoCache {
         let mut missing: Vec<VideoSource> = Vec::new();
         for id in needed {
             if !self.videos.contains_key(id) && !missing.iter().any(|s| s.id == id) {
-                missing.push(VideoSource::from_manifest(
-                    &self.manifest,
-                    &self.manifest_path,
-                    id,
-                )?);
+                let source = VideoSource::from_manifest(&self.manifest, &self.manifest_path, id)?;
+                missing.push(source.played_by(design));
             }
         }
         let starts: Vec<f64> = missing

@@ -6,7 +6,6 @@ use crate::condition::{PointSetKind, TimeFilter};
 use crate::contact_sheet::{self, Rect, Tile};
 use crate::display_convergence::{self as dc, Criterion, Plan};
 use crate::progress::terminal::{Look, Terminal};
-use crate::scene::Scene;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use std::path::PathBuf;
@@ -73,6 +72,8 @@ pub struct ConvergeArgs {
     /// Hide the progress bar.
     #[arg(long)]
     pub no_progress: bool,
+    #[command(flatten)]
+    pub assets: super::AssetArgs,
 }
 
 /// `--levels`' and `--point-sets`' defaults as the flags take them (comma-separated; clap's
@@ -105,10 +106,7 @@ fn reference_spp(args: &ConvergeArgs) -> Result<u32> {
 }
 
 pub fn run(args: ConvergeArgs) -> Result<()> {
-    let mut scene = Scene::load(&args.scene)?;
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
+    let mut scene = super::load_scene(&args.scene, &args.assets)?;
     for (flag, v) in [("--width", args.width), ("--height", args.height)] {
         if v == Some(0) {
             bail!("{flag} must be at least 1");

@@ -45,16 +45,21 @@ pub struct JobArgs {
     /// Hide the progress bar.
     #[arg(long)]
     pub no_progress: bool,
+    #[command(flatten)]
+    pub assets: super::AssetArgs,
 }
 
 pub fn run(args: JobArgs) -> Result<()> {
-    let job = Job::load_with_scenes(&args.job, &args.scenes)?;
+    let mut job = Job::load_with_scenes(&args.job, &args.scenes)?;
+    job.assets = args.assets.assets()?;
     let shard = args.shard.unwrap_or(Shard::WHOLE);
     if let Some(path) = &args.emit_slurm {
         return emit_slurm(&job, &args, path);
     }
     if args.dry_run {
-        print!("{}", crate::job::dry_run(&job, shard)?);
+        let (dry, warnings) = crate::job::dry_run(&job, shard)?;
+        super::print_warnings(&warnings);
+        print!("{dry}");
         return Ok(());
     }
     let opts = RunOptions {
@@ -70,6 +75,7 @@ pub fn run(args: JobArgs) -> Result<()> {
     };
     let bar = Terminal::new(Look::Job, !args.no_progress);
     let report = crate::job::run(&job, &opts, &bar)?;
+    super::print_warnings(&report.warnings);
     println!(
         "{}: rendered {} frames, {} already done, {} missing in the job",
         report.job_dir.display(),
@@ -98,16 +104,24 @@ fn emit_slurm(job: &Job, args: &JobArgs, path: &Path) -> Result<()> {
     if args.shards == 0 {
         bail!("--shards must be at least 1");
     }
+    if !job.assets.is_empty() {
+        bail!(
+            "--asset with --emit-slurm: the array tasks would render the scenes' own files; \
+             expected --emit-slurm without --asset (copy the asset where the scene names it on \
+             the cluster, outside the project's repository)"
+        );
+    }
     // A time limit per task from the calibration estimate, with a 2x margin for slower nodes
     // and imbalance.
-    let per_task = crate::job::dry_run(
+    let (dry, warnings) = crate::job::dry_run(
         job,
         Shard {
             index: 1,
             count: args.shards,
         },
-    )?
-    .estimated_shard_seconds;
+    )?;
+    super::print_warnings(&warnings);
+    let per_task = dry.estimated_shard_seconds;
     let exe = std::env::current_exe().context("cannot locate this program")?;
     let mut command = vec![exe.display().to_string()];
     if exe.file_stem().is_some_and(|s| s != "render") {

@@ -10,8 +10,53 @@ pub mod pointsets;
 pub mod report;
 pub mod scene;
 
+use crate::assets::Assets;
+use crate::scene::Scene;
 use anyhow::Result;
-use clap::Subcommand;
+use clap::{Args, Subcommand};
+use std::path::Path;
+
+/// The `--asset` flag of the subcommands that load scenes (`scene`, `job`, `converge`).
+#[derive(Debug, Args)]
+pub struct AssetArgs {
+    /// Read the file NAME that a scene names (e.g. its environment map) from PATH instead of
+    /// the scene's folder: `--asset CedarCity.hdr=/data/CedarCity.hdr` renders the thesis's
+    /// scenes under your copy of the thesis's sky, which the suite cannot ship. A .hdr must be
+    /// a Radiance RGBE lat-long map (twice as wide as high). Repeat for several files; each
+    /// is recorded with its SHA-256 (in the manifest of `render job`).
+    #[arg(long = "asset", value_name = "NAME=PATH")]
+    pub asset: Vec<String>,
+}
+
+impl AssetArgs {
+    /// The assets named, each checked and hashed; printed with their hashes.
+    pub fn assets(&self) -> Result<Assets> {
+        let assets = Assets::from_flags(&self.asset, "--asset")?;
+        for a in assets.list() {
+            println!(
+                "asset {}: {} (sha256 {})",
+                a.name,
+                a.path.display(),
+                a.sha256
+            );
+        }
+        Ok(assets)
+    }
+}
+
+/// Load a scene with the assets of `flags`, printing its loading warnings.
+pub fn load_scene(path: &Path, flags: &AssetArgs) -> Result<Scene> {
+    let scene = Scene::load_with(path, &flags.assets()?)?;
+    print_warnings(&scene.warnings);
+    Ok(scene)
+}
+
+/// Problems that did not stop the work, one line each on standard error.
+pub fn print_warnings(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+}
 
 /// Renderer subcommands.
 #[derive(Debug, Subcommand)]

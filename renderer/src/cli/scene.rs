@@ -4,7 +4,6 @@
 use crate::condition::{PointSetKind, TimeFilter};
 use crate::progress::terminal::{Look, Terminal};
 use crate::render::sequence::{SequenceOptions, render_sequence};
-use crate::scene::Scene;
 use anyhow::{Result, bail};
 use clap::Args;
 use std::ops::Range;
@@ -47,6 +46,8 @@ pub struct SceneArgs {
     /// Hide the progress bar.
     #[arg(long)]
     pub no_progress: bool,
+    #[command(flatten)]
+    pub assets: super::AssetArgs,
 }
 
 /// `a..b`, `a..=b` or `n`.
@@ -71,10 +72,7 @@ pub fn parse_frames(s: &str) -> Result<Range<u32>, String> {
 }
 
 pub fn run(args: SceneArgs) -> Result<()> {
-    let mut scene = Scene::load(&args.scene)?;
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
+    let mut scene = super::load_scene(&args.scene, &args.assets)?;
     let s = &mut scene.settings;
     for (flag, v) in [("--width", args.width), ("--height", args.height)] {
         if v == Some(0) {

@@ -84,6 +84,7 @@ mod tests {
 
     fn job(levels: Vec<u32>, point_sets: &[&str]) -> Job {
         Job {
+            assets: Default::default(),
             path: "j.json".into(),
             name: "j".into(),
             scenes: ["plane", "spheres"]

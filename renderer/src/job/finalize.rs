@@ -46,6 +46,7 @@ pub(super) fn measure(
 /// Measure what is left to measure, check every frame's content, and write the manifest.
 pub(super) fn finalize_job(job: &Job, plan: &Plan, job_dir: &Path) -> Result<Manifest> {
     let mut m = Manifest::new(&job.name);
+    m.assets = job.assets.records();
     for (s, spec) in plan.specs.iter().enumerate() {
         let setup = plan.setups[s];
         let dir = stimulus_dir(job_dir, spec);

@@ -24,6 +24,7 @@ pub use runner::{Finalize, RunOptions, RunReport, run_with_sources};
 pub use scene_source::{dry_run, run};
 pub use shard::Shard;
 
+use crate::assets::Assets;
 use crate::condition::{PointSetKind, TimeFilter};
 use crate::sampling::{FrameSampler, SamplingConfig, SamplingOptions};
 use crate::text::SourceMap;
@@ -187,6 +188,9 @@ pub struct Job {
     pub seed: u64,
     pub overrides: Overrides,
     pub frames_per_unit: u32,
+    /// The user's copies of files the scenes name (`--asset`; none in a job file): recorded in
+    /// each stimulus's stamp and the manifest.
+    pub assets: Assets,
 }
 
 impl JobFile {
@@ -362,6 +366,7 @@ impl Job {
             seed: f.seed,
             overrides: f.overrides,
             frames_per_unit: f.frames_per_unit.unwrap_or(DEFAULT_FRAMES_PER_UNIT),
+            assets: Assets::default(),
         })
     }
 

@@ -16,6 +16,7 @@ use super::frame_record::{self as record, FrameRecord};
 use super::shard::{self, Shard, Unit};
 use super::source::{FrameSetup, FrameSource};
 use super::{Job, expand};
+use crate::assets::AssetRecord;
 use crate::film::RenderedFrame;
 use crate::frame_io::{exr as linear_frame, names, png::png_bytes};
 use crate::manifest::Manifest;
@@ -69,6 +70,9 @@ pub struct RunReport {
     pub frames_missing: u64,
     /// The manifest, when the job was finalized.
     pub manifest: Option<Manifest>,
+    /// Problems that did not stop the run (repaired environment texels), for the caller to
+    /// show.
+    pub warnings: Vec<String>,
 }
 
 /// Format of `<id>/stimulus.json`.
@@ -89,6 +93,10 @@ struct StimulusStamp {
     height: u32,
     /// Scene frame shown as frame 0.
     first_frame: u32,
+    /// The user's files in place of the scenes' (`--asset`), by name and hash; absent when
+    /// none, so stamps written before the field still match.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    assets: Vec<AssetRecord>,
 }
 
 /// The job, expanded and sized.
@@ -178,6 +186,7 @@ pub fn run_with_sources(
         frames_skipped: 0,
         frames_missing: 0,
         manifest: None,
+        warnings: Vec::new(),
     };
     if opts.finalize != Finalize::Only {
         let mine = shard::assign(&plan.units, opts.shard);
@@ -244,6 +253,7 @@ fn stamp_stimuli(job: &Job, plan: &Plan, job_dir: &Path) -> Result<()> {
             width: setup.width,
             height: setup.height,
             first_frame: job.overrides.first_frame.unwrap_or(0),
+            assets: job.assets.records(),
         };
         let path = stimulus_dir(job_dir, spec).join("stimulus.json");
         if let Ok(text) = std::fs::read(&path) {

@@ -9,6 +9,7 @@
 
 use super::source::{FrameSetup, FrameSource, SyntheticSource};
 use super::{Job, Overrides, runner};
+use crate::assets::Assets;
 use crate::film::RenderedFrame;
 use crate::sampling::SamplingConfig;
 use crate::scene::{SCENE_FORMAT, Scene};
@@ -49,24 +50,46 @@ struct FormatOnly {
     format: Option<String>,
 }
 
-/// One frame source per scene of the job, in order.
-pub fn load_sources(job: &Job) -> Result<Vec<Box<dyn FrameSource>>> {
-    job.scenes
-        .iter()
-        .map(|s| load_source(&s.path, &job.overrides))
-        .collect()
+/// A job's scenes as frame sources, and what loading them had to repair.
+pub struct Loaded {
+    /// One frame source per scene of the job, in order.
+    pub sources: Vec<Box<dyn FrameSource>>,
+    /// Problems that did not stop loading (repaired environment texels), one line each, for
+    /// the command line to show.
+    pub warnings: Vec<String>,
 }
 
-/// The frame source of one scene file.
-pub fn load_source(path: &Path, overrides: &Overrides) -> Result<Box<dyn FrameSource>> {
+/// One frame source per scene of the job, in order, reading the job's assets.
+pub fn load_sources(job: &Job) -> Result<Loaded> {
+    let mut warnings = Vec::new();
+    let sources = job
+        .scenes
+        .iter()
+        .map(|s| load_source(&s.path, &job.overrides, &job.assets, &mut warnings))
+        .collect::<Result<_>>()?;
+    Ok(Loaded { sources, warnings })
+}
+
+/// The frame source of one scene file, with the files `assets` names read from the user's
+/// copies; the scene's warnings are added to `warnings`.
+pub fn load_source(
+    path: &Path,
+    overrides: &Overrides,
+    assets: &Assets,
+    warnings: &mut Vec<String>,
+) -> Result<Box<dyn FrameSource>> {
     let text = crate::utf8::read(path, "scene file")?;
     if crate::scene::block_format::is_block_scene(path) {
-        return scene_source(Scene::from_block_text(&text, path)?, overrides);
+        let scene = Scene::from_text_with(&text, path, assets)?;
+        return scene_source(scene, overrides, warnings);
     }
     let head: FormatOnly = crate::json::from_str(&text, path, "JSON scene file")?;
     match head.format.as_deref() {
         Some(SYNTHETIC_FORMAT) => synthetic(&text, path, overrides),
-        Some(SCENE_FORMAT) => scene_source(Scene::from_json(&text, path)?, overrides),
+        Some(SCENE_FORMAT) => {
+            let scene = Scene::from_text_with(&text, path, assets)?;
+            scene_source(scene, overrides, warnings)
+        }
         other => bail!(
             "{}: field `format` is {other:?}; expected {SCENE_FORMAT:?} (or \
              {SYNTHETIC_FORMAT:?} for the analytic test pattern)",
@@ -75,10 +98,12 @@ pub fn load_source(path: &Path, overrides: &Overrides) -> Result<Box<dyn FrameSo
     }
 }
 
-fn scene_source(scene: Scene, overrides: &Overrides) -> Result<Box<dyn FrameSource>> {
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
+fn scene_source(
+    scene: Scene,
+    overrides: &Overrides,
+    warnings: &mut Vec<String>,
+) -> Result<Box<dyn FrameSource>> {
+    warnings.extend(scene.warnings.iter().cloned());
     Ok(Box::new(SceneSource::new(Arc::new(scene), overrides)?))
 }
 
@@ -190,18 +215,25 @@ fn synthetic(text: &str, path: &Path, o: &Overrides) -> Result<Box<dyn FrameSour
     Ok(Box::new(s))
 }
 
-/// Render (this shard of) a job; see [`runner::run_with_sources`].
+/// Render (this shard of) a job; see [`runner::run_with_sources`]. The report carries the
+/// scenes' loading warnings.
 pub fn run(
     job: &Job,
     opts: &runner::RunOptions,
     progress: &dyn crate::progress::Progress,
 ) -> Result<runner::RunReport> {
-    runner::run_with_sources(job, &load_sources(job)?, opts, progress)
+    let loaded = load_sources(job)?;
+    let mut report = runner::run_with_sources(job, &loaded.sources, opts, progress)?;
+    report.warnings = loaded.warnings;
+    Ok(report)
 }
 
-/// Count a job's work and estimate its time; see [`super::dry_run_with_sources`].
-pub fn dry_run(job: &Job, shard: super::Shard) -> Result<super::DryRun> {
-    super::dry_run_with_sources(job, &load_sources(job)?, shard)
+/// Count a job's work and estimate its time; see [`super::dry_run_with_sources`]. The second
+/// value holds the scenes' loading warnings.
+pub fn dry_run(job: &Job, shard: super::Shard) -> Result<(super::DryRun, Vec<String>)> {
+    let loaded = load_sources(job)?;
+    let dry = super::dry_run_with_sources(job, &loaded.sources, shard)?;
+    Ok((dry, loaded.warnings))
 }
 
 #[cfg(test)]
@@ -219,7 +251,13 @@ mod tests {
                 "sampling": {"point_set": "sobol", "density": {"temporal": 3}}}"#,
         )
         .unwrap();
-        let src = load_source(&path, &Overrides::default()).unwrap();
+        let src = load_source(
+            &path,
+            &Overrides::default(),
+            &Assets::default(),
+            &mut vec![],
+        )
+        .unwrap();
         let job = |spp| SamplingConfig {
             point_set: crate::condition::PointSetKind::Hammersley,
             spp,

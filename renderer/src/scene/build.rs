@@ -8,6 +8,7 @@ use super::file::{
 use super::graph::{Graph, Node};
 use super::{Scene, Settings};
 use crate::accel::Instance;
+use crate::assets::Assets;
 use crate::camera::{Camera, Moving};
 use crate::environment::Environment;
 use crate::geometry::{Plane, Shape, Sphere, TriangleMesh};
@@ -154,6 +155,17 @@ pub fn build(f: SceneFile, path: &Path) -> Result<Scene> {
 
 /// [`build`], with errors located by `map` (the lines of a text scene).
 pub fn build_mapped(f: SceneFile, path: &Path, map: Option<&SourceMap>) -> Result<Scene> {
+    build_with(f, path, map, &Assets::default())
+}
+
+/// [`build_mapped`], reading the files `assets` names from the user's copies
+/// ([`crate::assets`]).
+pub fn build_with(
+    f: SceneFile,
+    path: &Path,
+    map: Option<&SourceMap>,
+    assets: &Assets,
+) -> Result<Scene> {
     let c = Check { path, map };
     if f.format != SCENE_FORMAT {
         return Err(c.err(
@@ -296,7 +308,7 @@ pub fn build_mapped(f: SceneFile, path: &Path, map: Option<&SourceMap>) -> Resul
                     "is not a finite number of degrees",
                 ));
             }
-            let file = dir.join(&e.file);
+            let file = assets.resolve(&dir, Path::new(&e.file));
             let (env, warning) = Environment::load(&file, intensity, e.rotation, e.negatives)
                 .map_err(|err| c.err("settings.environment.file", format!("{err:#}")))?;
             warnings.extend(warning);

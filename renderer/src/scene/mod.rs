@@ -14,6 +14,7 @@ mod magnitude;
 pub use file::{SCENE_FORMAT, SceneFile};
 
 use crate::accel::Instance;
+use crate::assets::Assets;
 use crate::camera::{Camera, Moving};
 use crate::environment::Environment;
 use crate::light::Light;
@@ -70,11 +71,23 @@ impl Scene {
     /// Read and check a scene file, JSON or (by the extension `.scene`) the thesis's block
     /// text; models and maps resolve against its folder.
     pub fn load(path: &Path) -> Result<Self> {
+        Self::load_with(path, &Assets::default())
+    }
+
+    /// [`Scene::load`], with the files `assets` names read from the user's copies.
+    pub fn load_with(path: &Path, assets: &Assets) -> Result<Self> {
         let text = crate::utf8::read(path, "scene file")?;
+        Self::from_text_with(&text, path, assets)
+    }
+
+    /// Parse and check scene text read from `path`, JSON or (by the extension `.scene`) the
+    /// thesis's block text, with the files `assets` names read from the user's copies.
+    pub fn from_text_with(text: &str, path: &Path, assets: &Assets) -> Result<Self> {
         if block_format::is_block_scene(path) {
-            Self::from_block_text(&text, path)
+            let (file, map) = block_format::read(text, path)?;
+            build::build_with(file, path, Some(&map), assets)
         } else {
-            Self::from_json(&text, path)
+            build::build_with(build::parse(text, path)?, path, None, assets)
         }
     }
 
