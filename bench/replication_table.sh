@@ -5,7 +5,8 @@
 #
 #   bash bench/replication_table.sh [STIMULI [OUT]]
 #
-# STIMULI  the folder `blurlab render job ... --out` wrote the sets into (default: stimuli)
+# STIMULI  the folder `blurlab render job ... --out` wrote the sets into (default: stimuli;
+#          relative paths are taken from the repository's root, where the script runs)
 # OUT      where the predictions go (default: $STIMULI/replication_table). A prediction whose
 #          predicted.csv exists is reused, so a second run only prints: use a new OUT after the
 #          observer model changes.
