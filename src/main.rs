@@ -65,6 +65,10 @@ fn predict(cli: &analysis::predict::command::PredictCli) -> anyhow::Result<()> {
             println!("{}", analysis::predict::command::combine_frames(f)?);
             return Ok(());
         }
+        (Some(PredictCommand::Explain(e)), _) => {
+            println!("{}", analysis::predict::command::explain(e)?);
+            return Ok(());
+        }
         (None, Some(args)) => args,
         (None, None) => anyhow::bail!("blurlab predict: give a stimulus set or a subcommand"),
     };

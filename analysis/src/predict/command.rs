@@ -10,6 +10,7 @@ use crate::data::Dataset;
 use anyhow::{Result, bail};
 use clap::{Args, Subcommand};
 use experiment::Design;
+use experiment::display::DisplaySpec;
 use renderer::progress::terminal::{Look, Terminal};
 use std::path::PathBuf;
 
@@ -35,6 +36,53 @@ pub enum PredictCommand {
     /// `blurlab predict`, or its folder) into the video's JNDs: d' pooled over the frames with
     /// the model's time exponent, and the most visible frame.
     Frames(FramesArgs),
+    /// Show where the model sees one pair's difference, frame by frame: where the aperture
+    /// lands, the luminance, clipping and difference there, and how the pooled difference
+    /// splits over luminance and clipped pixels.
+    Explain(ExplainArgs),
+}
+
+#[derive(Args, Clone, Debug)]
+pub struct ExplainArgs {
+    /// The stimulus set: its manifest file or the folder holding it.
+    pub stimuli: PathBuf,
+    /// The test stimulus's id.
+    #[arg(long)]
+    pub test: String,
+    /// The reference stimulus's id.
+    #[arg(long)]
+    pub reference: String,
+    /// A design whose `display` block to use [default: the thesis's display].
+    #[arg(long)]
+    pub design: Option<PathBuf>,
+    /// Viewing distance in metres, over the design's or the default display.
+    #[arg(long)]
+    pub distance_m: Option<f64>,
+    /// Also write the table to this file (Markdown).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// Explain one pair; returns the table.
+pub fn explain(args: &ExplainArgs) -> Result<String> {
+    let design = args.design.as_deref().map(Design::load).transpose()?;
+    let display = display_spec(design.as_ref(), args.distance_m);
+    let table = super::explain::pair(&args.stimuli, &args.test, &args.reference, &display)?;
+    if let Some(out) = &args.out {
+        renderer::atomic::write_atomic(out, table.as_bytes())?;
+    }
+    Ok(table)
+}
+
+/// The design's display block (or the default display), at `--distance-m` if given.
+fn display_spec(design: Option<&Design>, distance_m: Option<f64>) -> DisplaySpec {
+    let mut d: DisplaySpec = design
+        .and_then(|d| d.file.display.clone())
+        .unwrap_or_default();
+    if let Some(m) = distance_m {
+        d.distance_m = m;
+    }
+    d
 }
 
 #[derive(Args, Clone, Debug)]
@@ -140,16 +188,7 @@ pub fn run(args: &PredictArgs) -> Result<Outcome> {
     }
     let design = args.design.as_deref().map(Design::load).transpose()?;
     let settings = PredictSettings {
-        display: {
-            let mut d: experiment::display::DisplaySpec = design
-                .as_ref()
-                .and_then(|d| d.file.display.clone())
-                .unwrap_or_default();
-            if let Some(m) = args.distance_m {
-                d.distance_m = m;
-            }
-            d
-        },
+        display: display_spec(design.as_ref(), args.distance_m),
         k: args.sensitivity,
     };
     let bar = Terminal::new(Look::Steps, !args.no_progress);

@@ -12,6 +12,7 @@
 //! | `pooling` | Minkowski pooling over channels, space and time, the aperture (fitted) |
 //! | `shape` | the CSF's shape and oblique effect as ModelFest's observers have them (fitted) |
 //! | `video` | the model on one test/reference pair, frame by frame |
+//! | `explain` | where the aperture lands in a pair's frames and what is there (a diagnostic) |
 //! | `decision` | proportion correct from d': the two-pair task and 2IFC (with simulations) |
 //! | `stimuli` | a whole stimulus set: rows of `predicted.csv`, JNDs per condition |
 //! | `frames` | a video's JNDs from predictions of single frames spread over it |
@@ -30,6 +31,7 @@ pub mod compare;
 pub mod csf;
 pub mod decision;
 pub mod display;
+pub mod explain;
 pub mod frames;
 pub mod masking;
 pub mod modelfest;

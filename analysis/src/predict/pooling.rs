@@ -201,6 +201,11 @@ pub enum Placement {
 /// deviation `sd_px` pixels, over the window's positions on pixel centres: the largest value
 /// of d blurred (unnormalised, zero outside the frame) by exp(-r^2 / (2 sd^2)).
 pub fn most_visible(d: &[f32], width: usize, sd_px: f64) -> f64 {
+    most_visible_at(d, width, sd_px).0
+}
+
+/// [`most_visible`] and where: (the largest windowed sum, its column, its row).
+pub fn most_visible_at(d: &[f32], width: usize, sd_px: f64) -> (f64, usize, usize) {
     let height = d.len() / width.max(1);
     let reach = (4.0 * sd_px).ceil() as usize;
     let k: Vec<f64> = (0..=reach)
@@ -218,10 +223,13 @@ pub fn most_visible(d: &[f32], width: usize, sd_px: f64) -> f64 {
             rows[y * width + x] = blur(&|j| row[j] as f64, width, x);
         }
     }
-    let mut best = 0f64;
+    let mut best = (0f64, 0, 0);
     for x in 0..width {
         for y in 0..height {
-            best = best.max(blur(&|j| rows[j * width + x], height, y));
+            let v = blur(&|j| rows[j * width + x], height, y);
+            if v > best.0 {
+                best = (v, x, y);
+            }
         }
     }
     best

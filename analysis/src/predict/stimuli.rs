@@ -129,7 +129,7 @@ fn pairs(manifest: &Manifest, manifest_path: &Path, design: Option<&Design>) -> 
 }
 
 /// The reference's mean luminance over all pixels and frames.
-fn mean_luminance(video: &VideoSource, display: &Display) -> Result<f64> {
+pub fn mean_luminance(video: &VideoSource, display: &Display) -> Result<f64> {
     let mut sum = 0.0;
     let mut n = 0usize;
     for i in 0..video.frame_paths.len() {

@@ -130,21 +130,24 @@ impl Filters {
         })
     }
 
-    /// Packed contrasts e + i c of one frame pair.
-    fn contrast(&mut self, test: &[f32], reference: &[f32]) -> Vec<Complex32> {
+    /// The local adaptation luminance of a reference frame: blurred, floored.
+    pub fn adaptation(&mut self, reference: &[f32]) -> Vec<f32> {
         let mut la: Vec<Complex32> = reference.iter().map(|&r| Complex32::new(r, 0.0)).collect();
         self.fft.forward(&mut la);
         for (z, g) in la.iter_mut().zip(&self.adaptation) {
             *z *= *g;
         }
         self.fft.inverse(&mut la);
+        la.iter().map(|a| a.re.max(ADAPTATION_FLOOR)).collect()
+    }
+
+    /// Packed contrasts e + i c of one frame pair.
+    fn contrast(&mut self, test: &[f32], reference: &[f32]) -> Vec<Complex32> {
+        let la = self.adaptation(reference);
         test.iter()
             .zip(reference)
             .zip(&la)
-            .map(|((&t, &r), a)| {
-                let a = a.re.max(ADAPTATION_FLOOR);
-                Complex32::new((t - r) / a, r / a - 1.0)
-            })
+            .map(|((&t, &r), &a)| Complex32::new((t - r) / a, r / a - 1.0))
             .collect()
     }
 }
@@ -222,8 +225,28 @@ pub fn frame_differences(
     filters: &mut Filters,
     pooling: &Grid,
     placement: Placement,
-    mut load: impl FnMut(usize) -> Result<(Vec<f32>, Vec<f32>)>,
+    load: impl FnMut(usize) -> Result<(Vec<f32>, Vec<f32>)>,
 ) -> Result<Vec<Vec<f64>>> {
+    let v = filters.viewing;
+    let grid = Grid {
+        channels: vec![filters.channel_exponent],
+        ..pooling.clone()
+    };
+    let mut out = Vec::with_capacity(v.frames);
+    frame_sums(filters, load, |_, sums| {
+        out.push(sums.frame_q(&grid, v.pixels_per_degree, v.width, placement))
+    })?;
+    Ok(out)
+}
+
+/// The pipeline up to the pooling over space: `each(t, sums)` receives frame t's per-pixel
+/// sums over bands and channels, sum_b (|d_S| + |d_T|)^beta_c, with beta_c the filters'
+/// ([`frame_differences`] pools them; [`super::explain`] maps them).
+pub fn frame_sums(
+    filters: &mut Filters,
+    mut load: impl FnMut(usize) -> Result<(Vec<f32>, Vec<f32>)>,
+    mut each: impl FnMut(usize, &ChannelSums),
+) -> Result<()> {
     let v = filters.viewing;
     let f = v.frames as i64;
     let pixels = v.width * v.height;
@@ -238,16 +261,11 @@ pub fn frame_differences(
         o
     };
     let mut cache: BTreeMap<usize, Vec<Complex32>> = BTreeMap::new();
-    let mut out = Vec::with_capacity(v.frames);
     let mut e_pack = vec![Complex32::default(); pixels];
     let mut c_pack = vec![Complex32::default(); pixels];
     let mut e_band = vec![Complex32::default(); pixels];
     let mut c_band = vec![Complex32::default(); pixels];
-    let grid = Grid {
-        channels: vec![filters.channel_exponent],
-        ..pooling.clone()
-    };
-    let mut sums = ChannelSums::new(&grid.channels, pixels);
+    let mut sums = ChannelSums::new(&[filters.channel_exponent], pixels);
     let (mut sustained, mut transient) = (vec![0f32; pixels], vec![0f32; pixels]);
     for t in 0..f {
         let needed: Vec<usize> = offsets
@@ -303,9 +321,9 @@ pub fn frame_differences(
             }
             sums.add(&sustained, &transient);
         }
-        out.push(sums.frame_q(&grid, v.pixels_per_degree, v.width, placement));
+        each(t as usize, &sums);
     }
-    Ok(out)
+    Ok(())
 }
 
 #[cfg(test)]
