@@ -2,7 +2,7 @@
 //! (thesis Chapter III), the sampling machinery the study compares, and stimulus jobs.
 //!
 //! Two layers, chosen by cargo features (docs/ARCHITECTURE.md): the light core (stimulus
-//! ids, hashing, atomic writes, the JSON and UTF-8 readers, limits, the stimulus manifest,
+//! ids, hashing, SHA-256 digests, atomic writes, the JSON and UTF-8 readers, limits, the stimulus manifest,
 //! the progress trait, the typed conditions) is always built, because the experiment and the analysis need it;
 //! feature `plot` adds the figures' font, feature `terminal` the progress bar the binaries
 //! bind, and feature `tracer` (default) everything that renders. The experiment and the
@@ -12,6 +12,7 @@
 pub mod assets;
 pub mod atomic;
 pub mod condition;
+pub mod digest;
 pub mod hash;
 pub mod ids;
 pub mod json;

@@ -3,6 +3,7 @@
 //! is never part of the project: the test uses `../shared/assets/CedarCity.hdr` beside the
 //! repository (or `$BLURLAB_SHARED_ASSETS/CedarCity.hdr`) and is skipped without it.
 
+use renderer::digest::sha256_hex;
 use renderer::manifest::Manifest;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -45,13 +46,6 @@ fn render_job(job: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
 fn frame(out: &Path, m: &Manifest) -> image::RgbImage {
     let path = out.join("sky").join(&m.stimuli[0].frame_paths[0]);
     image::open(path).unwrap().to_rgb8()
-}
-
-fn sha256_hex(bytes: &[u8]) -> String {
-    sha2::Digest::finalize(<sha2::Sha256 as sha2::Digest>::new_with_prefix(bytes))
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
 }
 
 #[test]

@@ -70,14 +70,8 @@ pub fn completed(dir: &Path, frame: u32, need_exr: bool) -> Option<FrameRecord> 
     FrameRecord::load(dir, frame).filter(|r| r.matches_disk(dir, need_exr))
 }
 
-/// Lowercase hex SHA-256.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    use sha2::{Digest, Sha256};
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
+/// Lowercase hex SHA-256, the light core's (the assets hash files the same way).
+pub use crate::digest::sha256_hex;
 
 #[cfg(test)]
 mod tests {
@@ -118,13 +112,5 @@ mod tests {
             let back: f64 = serde_json::from_str(&serde_json::to_string(&v).unwrap()).unwrap();
             assert_eq!(back.to_bits(), v.to_bits(), "{v:?}");
         }
-    }
-
-    #[test]
-    fn sha256_of_empty_input_is_the_standard_value() {
-        assert_eq!(
-            sha256_hex(b""),
-            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
-        );
     }
 }

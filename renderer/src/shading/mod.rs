@@ -13,6 +13,7 @@
 //! with A the ambient light, E the light's irradiance, V its visibility, r_l the mirror image of
 //! the light direction l, and F the material's Fresnel curve.
 
+mod chains;
 mod packet;
 
 use crate::accel::pose::PoseCache;
@@ -75,22 +76,30 @@ impl<'a> Tracer<'a> {
 
     fn shade(&self, ray: &Ray, hit: &SurfaceHit, depth: u32) -> Vec3 {
         let s = Surface::new(self.scene, ray, hit);
-        self.combine(ray, &s, depth, || self.direct(ray, &s))
+        let mut l = self.local(&s, || self.direct(ray, &s));
+        if self.reflects(&s, depth) {
+            l += self.reflection(ray, &s, depth);
+        }
+        l
     }
 
-    /// The radiance of a hit ready to shade: the ambient term, then the direct light (asked of
-    /// `direct` only for a lit material), then the mirror reflection. The one formula of both
-    /// the scalar and the packet path.
+    /// The radiance of a hit before its mirror reflection: the ambient term, then the direct
+    /// light (asked of `direct` only for a lit material). With [`Tracer::reflects`], the one
+    /// formula of the scalar path, the packet path and the lanes' mirror chains
+    /// (`l = local + reflection`).
     #[inline(always)]
-    fn combine(&self, ray: &Ray, s: &Surface, depth: u32, direct: impl FnOnce() -> Vec3) -> Vec3 {
+    fn local(&self, s: &Surface, direct: impl FnOnce() -> Vec3) -> Vec3 {
         let mut l = s.m.ambient * self.scene.settings.ambient_light;
         if s.m.lit() {
             l += direct();
         }
-        if depth < self.max_depth && s.m.reflective() {
-            l += self.reflection(ray, s, depth);
-        }
         l
+    }
+
+    /// Whether a hit reached after `depth` bounces adds its mirror reflection.
+    #[inline(always)]
+    fn reflects(&self, s: &Surface, depth: u32) -> bool {
+        depth < self.max_depth && s.m.reflective()
     }
 
     /// Lambert and Phong terms of every light that reaches the point.
@@ -110,19 +119,26 @@ impl<'a> Tracer<'a> {
     }
 
     fn reflection(&self, ray: &Ray, s: &Surface, depth: u32) -> Vec3 {
-        let Some(fresnel) = s.m.fresnel else {
-            return Vec3::ZERO;
-        };
-        let mut dir = reflect(ray.dir, s.ns);
-        // An interpolated normal can send the mirror ray into the surface; mirror about the
-        // true surface instead.
-        if dir.dot(s.ng) <= 0.0 {
-            dir = reflect(ray.dir, s.ng);
+        match bounce(ray, s) {
+            Some((bounce, weight)) => weight * self.radiance(&bounce, depth + 1),
+            None => Vec3::ZERO,
         }
-        let weight = fresnel.reflectance(s.ns.dot(s.v)) * s.m.specular;
-        let bounce = Ray::new(s.hit.spawn_point(dir), dir, ray.time);
-        weight * self.radiance(&bounce, depth + 1)
     }
+}
+
+/// The mirror ray of a hit and its Fresnel weight; `None` for a material without a Fresnel
+/// curve (its reflection is zero).
+#[inline]
+fn bounce(ray: &Ray, s: &Surface) -> Option<(Ray, Vec3)> {
+    let fresnel = s.m.fresnel?;
+    let mut dir = reflect(ray.dir, s.ns);
+    // An interpolated normal can send the mirror ray into the surface; mirror about the
+    // true surface instead.
+    if dir.dot(s.ng) <= 0.0 {
+        dir = reflect(ray.dir, s.ng);
+    }
+    let weight = fresnel.reflectance(s.ns.dot(s.v)) * s.m.specular;
+    Some((Ray::new(s.hit.spawn_point(dir), dir, ray.time), weight))
 }
 
 /// A hit ready to shade: its material, its normals turned towards the viewer, and the

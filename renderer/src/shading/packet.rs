@@ -9,7 +9,7 @@
 //! code's f32 operations ([`Surface::new`], [`shadow_ray`](super::shadow_ray),
 //! [`lit_by`](super::lit_by), [`SurfaceHit::spawn_point`], [`Light::sample`]) in the scalar
 //! order, the sums add the same terms in the same order (ambient, then each light in scene
-//! order, then the reflection: [`Tracer::combine`]), and the ray count grows by the same rays.
+//! order, then the reflection: [`Tracer::local`]), and the ray count grows by the same rays.
 //! What the lanes do not do, a lane hands to the scalar code: a ray the packet form cannot
 //! trace (see [`crate::accel::packet`]) is traced by [`Tracer::radiance`], a shadow ray by
 //! [`World::occluded`](crate::accel::World::occluded), a mirror reflection by
@@ -48,30 +48,6 @@ impl Tracer<'_> {
         out
     }
 
-    /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` of `live`, for worlds without a
-    /// packet form (meshes, spinning instances): the camera rays were made in lanes, the lanes
-    /// whose rays miss the world's box are culled together ([`World::may_hit_lanes`]), each
-    /// other lane is intersected and shaded by the scalar path, the lanes that miss look up
-    /// the environment together, and the radiances are summed in lanes.
-    ///
-    /// [`World::may_hit_lanes`]: crate::accel::World::may_hit_lanes
-    pub fn radiance_lanes(&self, ray: &RayPacket, live: u32) -> V3 {
-        let mut out = [Lane::ZERO; 3];
-        self.count(live);
-        // Rays that surely hit nothing see the sky without the scalar path's walk.
-        let maybe = self.world.may_hit_lanes(ray, live);
-        let mut missed = live & !maybe;
-        for i in lanes(maybe) {
-            let r = ray.lane(i);
-            match self.world.intersect_cached(&r, &self.poses) {
-                Some(hit) => set(&mut out, i, self.shade(&r, &hit, 0)),
-                None => missed |= 1 << i,
-            }
-        }
-        self.background_lanes(ray, missed, &mut out);
-        out
-    }
-
     /// [`Tracer::background`] of the lanes of `missed` into `out` (left as it is in the
     /// others): the environment lookups in lanes ([`Environment::radiance_lanes`]).
     ///
@@ -89,7 +65,7 @@ impl Tracer<'_> {
     fn shade_packet(&self, small: &SmallWorld, ray: &RayPacket, nearest: &Nearest, hit: u32) -> V3 {
         let h = Hits::new(self, small, ray, nearest, hit);
         let direct = self.direct_packet(small, ray, &h);
-        // [`Tracer::combine`]: the ambient term, then the direct light for a lit material.
+        // [`Tracer::local`]: the ambient term, then the direct light for a lit material.
         let (lit, hit_lanes) = (lane_mask(h.m.lit), lane_mask(hit));
         let a = self.scene.settings.ambient_light.to_array();
         let mut l: V3 = std::array::from_fn(|k| {
@@ -152,7 +128,7 @@ impl Tracer<'_> {
     }
 
     /// Count one ray per lane of `live`.
-    fn count(&self, live: u32) {
+    pub(super) fn count(&self, live: u32) {
         self.rays
             .set(self.rays.get() + u64::from(live.count_ones()));
     }
@@ -407,7 +383,7 @@ fn lane<T: From<[f32; 3]>>(v: &V3, i: usize) -> T {
 
 /// Set lane `i` of `v` to `x`.
 #[inline(always)]
-fn set(v: &mut V3, i: usize, x: Vec3) {
+pub(super) fn set(v: &mut V3, i: usize, x: Vec3) {
     for (c, x) in v.iter_mut().zip(x.to_array()) {
         c.as_mut_array()[i] = x;
     }
@@ -415,6 +391,6 @@ fn set(v: &mut V3, i: usize, x: Vec3) {
 
 /// The lanes of `bits`, in order.
 #[inline(always)]
-fn lanes(bits: u32) -> impl Iterator<Item = usize> {
+pub(super) fn lanes(bits: u32) -> impl Iterator<Item = usize> {
     (0..LANES).filter(move |i| bits & (1 << i) != 0)
 }
