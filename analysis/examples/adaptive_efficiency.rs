@@ -20,7 +20,8 @@
 //! (arguments: constant-stimuli design, observer, replications, bootstrap resamples (0: fits
 //! and posteriors only, the interval columns of the fits left empty), optionally a text the
 //! procedures' names must contain, e.g. `QUEST+` (comma-separated: any of them), and optionally the names of the QUEST+ priors
-//! to run, comma-separated (`priors`; default: `default`)). With a prior, the QUEST+ sessions use
+//! to run, comma-separated (`priors`; default: `default`), and optionally the QUEST+ trial
+//! counts per condition, comma-separated (default `8,10,11,16,24,32`)). With a prior, the QUEST+ sessions use
 //! it and every procedure's posterior is computed with it, so the intervals compared are the
 //! same kind (one grid, one prior). Each
 //! replication r reseeds the design and the observer as `plan` does (`plan::replicate::seeded`).
@@ -64,6 +65,15 @@ fn main() -> Result<()> {
     let resamples: usize = args.get(3).context(usage)?.parse()?;
     let only = args.get(4).cloned().unwrap_or_default();
     let wanted = args.get(5).map_or("default", String::as_str);
+    let counts: Vec<u32> = args
+        .get(6)
+        .map_or("8,10,11,16,24,32", String::as_str)
+        .split(',')
+        .map(|n| {
+            n.parse()
+                .context("trial counts: expected whole numbers, e.g. 12,14")
+        })
+        .collect::<Result<_>>()?;
     let chosen: Vec<(&str, QuestPlusSpec)> = priors()
         .into_iter()
         .filter(|p| wanted.split(',').any(|w| w == p.0))
@@ -71,7 +81,7 @@ fn main() -> Result<()> {
     if chosen.is_empty() {
         anyhow::bail!(
             "priors {wanted:?}: expected names from {:?}",
-            priors().map(|p| p.0)
+            priors().iter().map(|p| p.0).collect::<Vec<_>>()
         );
     }
     println!(
@@ -81,7 +91,7 @@ fn main() -> Result<()> {
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     for (prior_name, prior) in &chosen {
-        for (name, spec) in procedures(prior)
+        for (name, spec) in procedures(prior, &counts)
             .into_iter()
             .filter(|p| only.split(',').any(|o| p.0.contains(o)))
         {
@@ -104,7 +114,9 @@ fn main() -> Result<()> {
 /// per ln spp (the simulated observer's is 1.5, so this prior is centred off the truth). `truth`
 /// is centred on the simulated observer's own slope: it flatters QUEST+. The range 8-343 spp is
 /// the rendered levels without their ends: the levels were chosen to bracket the thresholds.
-fn priors() -> [(&'static str, QuestPlusSpec); 5] {
+/// `-lapse0` variants fix the model's lapse at the simulated observer's own 0 instead of 0.02:
+/// the most a free lapse could gain (learning it can only do worse than knowing it).
+fn priors() -> Vec<(&'static str, QuestPlusSpec)> {
     let slope = |median, sd_ln| SlopePrior { median, sd_ln };
     let range = Some(ThresholdRange {
         lowest: 8.0,
@@ -115,16 +127,23 @@ fn priors() -> [(&'static str, QuestPlusSpec); 5] {
         threshold,
         ..QuestPlusSpec::default()
     };
-    [
+    let lapse0 = |q: QuestPlusSpec| QuestPlusSpec { lapse: 0.0, ..q };
+    vec![
         ("default", QuestPlusSpec::default()),
         ("truth", with(slope(1.5, 0.25), None)),
         ("quest", with(slope(2.43, 0.25), None)),
         ("range", with(SlopePrior::default(), range.clone())),
-        ("range-quest", with(slope(2.43, 0.25), range)),
+        ("range-quest", with(slope(2.43, 0.25), range.clone())),
+        ("range-truth", with(slope(1.5, 0.25), range.clone())),
+        (
+            "range-quest-lapse0",
+            lapse0(with(slope(2.43, 0.25), range.clone())),
+        ),
+        ("range-truth-lapse0", lapse0(with(slope(1.5, 0.25), range))),
     ]
 }
 
-fn procedures(prior: &QuestPlusSpec) -> Vec<(String, ProcedureSpec)> {
+fn procedures(prior: &QuestPlusSpec, counts: &[u32]) -> Vec<(String, ProcedureSpec)> {
     let mut out = vec![(
         "constant stimuli".to_string(),
         ProcedureSpec::ConstantStimuli,
@@ -133,7 +152,7 @@ fn procedures(prior: &QuestPlusSpec) -> Vec<(String, ProcedureSpec)> {
         (QuestGoal::Joint, ""),
         (QuestGoal::Threshold, " (threshold goal)"),
     ] {
-        for n in [8, 10, 11, 16, 24, 32] {
+        for &n in counts {
             out.push((
                 format!("QUEST+{label} {n} per condition"),
                 ProcedureSpec::QuestPlus(QuestPlusSpec {

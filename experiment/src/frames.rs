@@ -63,20 +63,27 @@ pub struct RgbFrame {
 
 /// Decode frame `index` of a video, refusing a size other than the manifest's.
 pub fn load_frame(video: &VideoSource, index: usize) -> Result<RgbFrame> {
-    let path = &video.frame_paths[index];
+    decode_png(
+        &video.frame_paths[index],
+        video.width,
+        video.height,
+        &video.id,
+    )
+}
+
+/// Read and decode the PNG frame at `path` of stimulus `id`, refusing a size other than
+/// `width` x `height` (the manifest's).
+pub fn decode_png(path: &Path, width: u32, height: u32, id: &str) -> Result<RgbFrame> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
     let img = image::load_from_memory_with_format(&bytes, image::ImageFormat::Png)
         .with_context(|| format!("{}: not a readable PNG", path.display()))?
         .into_rgb8();
-    if img.dimensions() != (video.width, video.height) {
+    if img.dimensions() != (width, height) {
         bail!(
-            "{}: is {}x{}, but the manifest says {}x{} for {}",
+            "{}: is {}x{}, but the manifest says {width}x{height} for {id}",
             path.display(),
             img.width(),
             img.height(),
-            video.width,
-            video.height,
-            video.id
         );
     }
     Ok(RgbFrame {

@@ -12,6 +12,7 @@ pub mod design;
 pub mod display;
 #[cfg(any(test, feature = "test-support"))]
 pub mod fixture;
+pub mod frame_store;
 pub mod frames;
 pub mod keys;
 pub mod layout;

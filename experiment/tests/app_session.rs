@@ -8,12 +8,16 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use experiment::app::{Pacing, SessionApp};
 use experiment::fixture::{Study, StudySpec, write_study};
+use experiment::frame_store::{FrameDir, MemoryFrames};
+use experiment::frames::RgbFrame;
 use experiment::log::SessionLog;
+use experiment::log_sink::MemoryLog;
 use experiment::log_writer::Durability;
-use experiment::preflight::{PreflightOptions, preflight};
+use experiment::preflight::{PreflightOptions, needed_stimuli, preflight};
 use experiment::{Design, Session, Stage};
 use serde_json::json;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 const DT: f32 = 1.0 / 60.0;
 
@@ -45,7 +49,11 @@ fn open_app(study: &Study, subject: &str) -> (SessionApp, PathBuf) {
     std::fs::create_dir_all(log.parent().unwrap()).unwrap();
     let session = Session::open(&design, subject, &log, Durability::Sync).unwrap();
     (
-        SessionApp::new(session, manifest, manifest_path, Pacing::Vsync),
+        SessionApp::new(
+            session,
+            Arc::new(FrameDir::new(manifest, manifest_path)),
+            Pacing::Vsync,
+        ),
         log,
     )
 }
@@ -269,4 +277,61 @@ fn videos_too_large_for_the_display_stop_before_the_session_starts() {
         !log_path.exists(),
         "no log is written for a session that cannot run"
     );
+}
+
+/// The app with no file system: the design parsed from text (its manifest nowhere), the log in
+/// memory (`MemoryLog`) and the videos in memory (`MemoryFrames`): a whole QUEST+ session by
+/// key presses, every frame of every trial drawn.
+#[test]
+fn a_session_runs_from_frames_and_a_log_in_memory() {
+    let text = json!({
+        "format": "blurlab-design/1", "name": "memory",
+        "manifest": "stimuli/memory/manifest.json",
+        "factors": {"scenes": ["alpha"], "point_sets": ["random"], "time_filters": ["box"]},
+        "levels": [1, 8, 27], "seed": {"master": 3},
+        "procedure": {"quest_plus": {"trials": 3}},
+        "playback": {"loops": 1, "fixation_ms": 100, "gap_ms": 100}
+    });
+    let nowhere = Path::new("/nonexistent/blurlab/memory.json");
+    let design = Design::parse(nowhere, &text.to_string()).unwrap();
+    let mut frames = MemoryFrames::new();
+    for (v, n) in needed_stimuli(&design).iter().enumerate() {
+        let video = (0..6u8)
+            .map(|f| RgbFrame {
+                width: 24,
+                height: 16,
+                rgb: (0..24 * 16 * 3)
+                    .map(|i| (i as u8) ^ (f * 40 + v as u8))
+                    .collect(),
+            })
+            .collect();
+        frames.insert(&n.id, 30.0, video).unwrap();
+    }
+    let log = MemoryLog::new("m1.jsonl");
+    let session = Session::open_with(&design, "m1", Box::new(log.clone())).unwrap();
+    let app = SessionApp::new(session, Arc::new(frames), Pacing::Vsync);
+    let mut h = harness(app, 1.0);
+    start(&mut h);
+    loop {
+        match h.state().session().stage() {
+            Stage::Practice(_) | Stage::Trial(_) => {
+                step_until(&mut h, "the response screen", SessionApp::responding);
+                press(&mut h, Key::Num1);
+                h.run_steps(70); // practice feedback, if any
+            }
+            Stage::PracticeDone | Stage::Break => press(&mut h, Key::Space),
+            Stage::Instructions => panic!("still at the instructions"),
+            Stage::Finished => break,
+        }
+    }
+    assert_eq!(h.state().fatal_error(), None);
+    let read = SessionLog::parse(Path::new("m1.jsonl"), log.bytes()).unwrap();
+    assert_eq!(read.header.mode, "gui");
+    assert_eq!(read.main_trials().count(), 3);
+    for t in &read.trials {
+        // 60 repaints a second, 30 video frames: each of the 6 frames of both pairs drawn
+        // twice, none held back for want of a frame.
+        assert_eq!(t.frame_times_ms.len(), 12);
+        assert_eq!(t.dropped_frames, 0);
+    }
 }

@@ -2,9 +2,10 @@
 //! threads in the order they are due ([`crate::stream::loading_order`]) and uploaded by the UI
 //! thread in that order, a few per repaint, so the frames loaded are always a prefix of each
 //! video and the trial can start before the last is in ([`crate::stream::can_start`]).
-//! Textures use nearest filtering: a video pixel is a screen pixel.
+//! Frames come from a [`FrameStore`] (the stimulus folder, or memory). Textures use nearest
+//! filtering: a video pixel is a screen pixel.
 
-use crate::frames::{VideoSource, load_frame};
+use crate::frame_store::{FrameStore, StoredVideo};
 use crate::stream::{self, Due};
 use egui::{ColorImage, Context, TextureHandle, TextureOptions};
 use std::collections::HashMap;
@@ -19,7 +20,7 @@ const QUEUED_FRAMES: usize = 16;
 
 /// A video held as one texture per frame: while loading, the first `textures.len()` frames.
 pub struct Video {
-    pub source: VideoSource,
+    pub source: StoredVideo,
     pub textures: Vec<TextureHandle>,
 }
 
@@ -55,21 +56,22 @@ pub struct Budget {
 }
 
 impl Loader {
-    /// Start decoding every frame of `sources`, first shown `starts[v]` seconds after the
-    /// trial's start, in the background.
-    pub fn start(sources: Vec<VideoSource>, starts: &[f64]) -> Self {
-        let frames: Vec<usize> = sources.iter().map(|s| s.frame_paths.len()).collect();
+    /// Start decoding every frame of `sources` from `store`, first shown `starts[v]` seconds
+    /// after the trial's start, in the background.
+    pub fn start(store: Arc<dyn FrameStore>, sources: Vec<StoredVideo>, starts: &[f64]) -> Self {
+        let frames: Vec<usize> = sources.iter().map(|s| s.frames as usize).collect();
         let fps = sources.first().map_or(30.0, |s| s.fps);
         let order = Arc::new(stream::loading_order(starts, &frames, fps));
         let (tx, rx) = sync_channel(QUEUED_FRAMES);
         let cancel = Arc::new(AtomicBool::new(false));
         let next = Arc::new(AtomicUsize::new(0));
-        let work = Arc::new(sources.clone());
+        let ids: Arc<Vec<String>> = Arc::new(sources.iter().map(|s| s.id.clone()).collect());
         let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
         for _ in 0..threads.min(order.len()) {
             let (tx, stop) = (tx.clone(), cancel.clone());
-            let (work, order, next) = (work.clone(), order.clone(), next.clone());
-            std::thread::spawn(move || decode_jobs(&work, &order, &next, &stop, &tx));
+            let (store, ids) = (store.clone(), ids.clone());
+            let (order, next) = (order.clone(), next.clone());
+            std::thread::spawn(move || decode_jobs(&*store, &ids, &order, &next, &stop, &tx));
         }
         Self {
             rx,
@@ -158,7 +160,8 @@ impl Drop for Loader {
 /// One worker: take the next frame in order until none is left, loading is abandoned or the
 /// receiver is gone.
 fn decode_jobs(
-    sources: &[VideoSource],
+    store: &dyn FrameStore,
+    ids: &[String],
     order: &[Due],
     next: &AtomicUsize,
     stop: &AtomicBool,
@@ -171,7 +174,7 @@ fn decode_jobs(
         else {
             return;
         };
-        let msg = match load_frame(&sources[v], f) {
+        let msg = match store.frame(&ids[v], f) {
             Ok(img) => Decoded::Frame(
                 v,
                 f,
@@ -189,11 +192,13 @@ fn decode_jobs(
 mod tests {
     use super::*;
     use crate::fixture::{StudySpec, write_study};
+    use crate::frame_store::{FrameDir, MemoryFrames};
+    use crate::frames::RgbFrame;
     use egui::epaint::ImageData;
     use renderer::manifest::Manifest;
 
-    /// Two videos of 12 frames of a small rendered study.
-    fn sources(dir: &std::path::Path) -> Vec<VideoSource> {
+    /// The first two stimuli of a small rendered study (12 frames each), from its folder.
+    fn folder(dir: &std::path::Path) -> (Arc<dyn FrameStore>, Vec<StoredVideo>) {
         let spec = StudySpec {
             scenes: vec!["alpha".into()],
             point_sets: vec!["random".into()],
@@ -203,26 +208,40 @@ mod tests {
         let study = write_study(dir, &spec).unwrap();
         let path = study.stimuli_dir.join("manifest.json");
         let manifest = Manifest::load(&path).unwrap();
-        manifest.stimuli[..2]
-            .iter()
-            .map(|s| VideoSource::from_manifest(&manifest, &path, &s.id).unwrap())
-            .collect()
+        let ids: Vec<String> = manifest.stimuli[..2].iter().map(|s| s.id.clone()).collect();
+        let store = FrameDir::new(manifest, path);
+        let videos = ids.iter().map(|id| store.video(id).unwrap()).collect();
+        (Arc::new(store), videos)
+    }
+
+    /// Two made-up videos of 12 frames of 5 x 3 pixels in memory: no file anywhere.
+    fn memory() -> (Arc<dyn FrameStore>, Vec<StoredVideo>) {
+        let mut store = MemoryFrames::new();
+        for (v, id) in ["a-0001", "a-0512"].iter().enumerate() {
+            let frames = (0..12u8)
+                .map(|f| RgbFrame {
+                    width: 5,
+                    height: 3,
+                    rgb: (0..45u8).map(|i| i ^ (f << 2) ^ (v as u8 * 0x80)).collect(),
+                })
+                .collect();
+            store.insert(id, 30.0, frames).unwrap();
+        }
+        let videos = ["a-0001", "a-0512"].map(|id| store.video(id).unwrap());
+        (Arc::new(store), videos.to_vec())
     }
 
     /// Pumped one frame per repaint, frames come in the order they are due (both videos from
     /// the start: frame by frame; the second shown later: after the first), and each texture
     /// holds exactly its own decoded frame.
-    #[test]
-    fn each_texture_holds_its_own_frame_in_the_order_they_are_due() {
-        let dir = tempfile::tempdir().unwrap();
-        let s = sources(dir.path());
+    fn each_texture_holds_its_own_frame(store: Arc<dyn FrameStore>, s: &[StoredVideo]) {
         // The frames differ, so a frame uploaded in another's place would be seen.
         assert_ne!(
-            load_frame(&s[0], 0).unwrap(),
-            load_frame(&s[0], 11).unwrap()
+            store.frame(&s[0].id, 0).unwrap(),
+            store.frame(&s[0].id, 11).unwrap()
         );
         for second in [0.0, 100.0] {
-            let (loader, uploaded, counts) = load_all(&s, &[0.0, second]);
+            let (loader, uploaded, counts) = load_all(&store, s, &[0.0, second]);
             for (a, b) in counts {
                 if second == 0.0 {
                     assert!(a == b || a == b + 1, "{a} {b}");
@@ -231,9 +250,9 @@ mod tests {
                 }
             }
             for (source, video) in s.iter().zip(loader.into_videos()) {
-                assert_eq!(video.textures.len(), source.frame_paths.len());
+                assert_eq!(video.textures.len(), source.frames as usize);
                 for (f, t) in video.textures.iter().enumerate() {
-                    let rgb = load_frame(source, f).unwrap();
+                    let rgb = store.frame(&source.id, f).unwrap();
                     let size = [rgb.width as usize, rgb.height as usize];
                     let want = ColorImage::from_rgb(size, &rgb.rgb);
                     assert_eq!(*uploaded[&t.id()], want, "{} frame {f}", source.id);
@@ -242,13 +261,61 @@ mod tests {
         }
     }
 
+    #[test]
+    fn each_texture_holds_its_own_frame_in_the_order_they_are_due() {
+        let dir = tempfile::tempdir().unwrap();
+        let (store, videos) = folder(dir.path());
+        each_texture_holds_its_own_frame(store, &videos);
+    }
+
+    /// The same loader from frames in memory: no stimulus folder.
+    #[test]
+    fn frames_in_memory_load_like_frames_on_disk() {
+        let (store, videos) = memory();
+        each_texture_holds_its_own_frame(store, &videos);
+    }
+
+    /// A frame the store cannot give fails the load with the store's message.
+    #[test]
+    fn a_missing_frame_fails_the_load_by_name() {
+        let (store, mut videos) = memory();
+        videos[1].frames = 13;
+        let ctx = Context::default();
+        let mut loader = Loader::start(store, videos, &[0.0, 0.0]);
+        for _ in 0..1000 {
+            let mut state = None;
+            let mut out = ctx.run_ui(Default::default(), |_| {
+                state = Some(loader.pump(&ctx, UNLIMITED))
+            });
+            out.textures_delta.clear();
+            match state.unwrap() {
+                LoadState::Failed(e) => {
+                    assert!(e.contains("\"a-0512\" has 12 frames, not frame 12"), "{e}");
+                    return;
+                }
+                LoadState::Done => panic!("loaded a frame the store lacks"),
+                LoadState::Loading { .. } => {}
+            }
+        }
+        panic!("never failed");
+    }
+
+    const UNLIMITED: Budget = Budget {
+        time: Duration::from_secs(1),
+        frames: usize::MAX,
+    };
+
     type Images = HashMap<egui::TextureId, Arc<ColorImage>>;
 
     /// Load `s` one frame per repaint: the finished loader, every uploaded image by texture,
     /// and the frames of videos 0 and 1 in after each repaint.
-    fn load_all(s: &[VideoSource], starts: &[f64]) -> (Loader, Images, Vec<(u32, u32)>) {
+    fn load_all(
+        store: &Arc<dyn FrameStore>,
+        s: &[StoredVideo],
+        starts: &[f64],
+    ) -> (Loader, Images, Vec<(u32, u32)>) {
         let ctx = Context::default();
-        let mut loader = Loader::start(s.to_vec(), starts);
+        let mut loader = Loader::start(store.clone(), s.to_vec(), starts);
         let one = Budget {
             time: Duration::from_secs(1),
             frames: 1,

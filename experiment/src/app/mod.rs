@@ -10,6 +10,7 @@ mod video_painter;
 pub use session_app::{Pacing, SessionApp};
 
 use crate::design::Design;
+use crate::frame_store::FrameDir;
 use crate::log_writer::Durability;
 use crate::paths::sessions_dir;
 use crate::preflight::{PreflightOptions, preflight};
@@ -17,6 +18,7 @@ use crate::session::Session;
 use anyhow::{Context, Result};
 use renderer::progress::Progress;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// What [`launch`] needs: a subject's session of a design, and how to show it.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -166,7 +168,8 @@ pub fn show(prepared: Prepared) -> Result<Launched> {
             log: log_path,
         });
     }
-    let mut app = SessionApp::new(session, manifest, manifest_path, pacing);
+    let store = Arc::new(FrameDir::new(manifest, manifest_path));
+    let mut app = SessionApp::new(session, store, pacing);
     app.cover_monitor(windowed.is_none());
     let summary = app.summary();
     let mut viewport = egui::ViewportBuilder::default()

@@ -1,14 +1,14 @@
 //! The app's video cache: the decoded videos of the current trial by stimulus id, and the next
-//! trial's videos loading in advance while the subject answers.
+//! trial's videos loading in advance while the subject answers, from the session's
+//! [`FrameStore`].
 
 use super::loader::{Budget, LoadState, Loader, Video};
 use crate::design::Design;
-use crate::frames::VideoSource;
+use crate::frame_store::{FrameStore, StoredVideo};
 use crate::stream;
 use crate::trials::Trial;
-use renderer::manifest::Manifest;
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Duration;
 
 /// Uploads per repaint while loading (the time keeps the progress bar alive).
@@ -26,8 +26,7 @@ pub(super) const PLAYBACK_BUDGET: Budget = Budget {
 
 /// Videos by stimulus id, and the prefetch of the next trial's.
 pub(super) struct VideoCache {
-    manifest: Manifest,
-    manifest_path: PathBuf,
+    store: Arc<dyn FrameStore>,
     /// Decoded videos by stimulus id (those of the current trial).
     videos: HashMap<String, Video>,
     /// The next trial's videos, loading while the subject answers: (practice, index) and loader.
@@ -35,17 +34,16 @@ pub(super) struct VideoCache {
 }
 
 impl VideoCache {
-    pub(super) fn new(manifest: Manifest, manifest_path: PathBuf) -> Self {
+    pub(super) fn new(store: Arc<dyn FrameStore>) -> Self {
         VideoCache {
-            manifest,
-            manifest_path,
+            store,
             videos: HashMap::new(),
             prefetch: None,
         }
     }
 
-    pub(super) fn manifest(&self) -> &Manifest {
-        &self.manifest
+    pub(super) fn store(&self) -> &dyn FrameStore {
+        &*self.store
     }
 
     /// The decoded video `id`, else the one `loading` streams.
@@ -79,18 +77,17 @@ impl VideoCache {
     fn loader_for(&mut self, design: &Design, trial: &Trial) -> anyhow::Result<Loader> {
         let needed = trial.stimuli();
         self.videos.retain(|id, _| needed.contains(&id.as_str()));
-        let mut missing: Vec<VideoSource> = Vec::new();
+        let mut missing: Vec<StoredVideo> = Vec::new();
         for id in needed {
             if !self.videos.contains_key(id) && !missing.iter().any(|s| s.id == id) {
-                let source = VideoSource::from_manifest(&self.manifest, &self.manifest_path, id)?;
-                missing.push(source.played_by(design));
+                missing.push(self.store.video(id)?.played_by(design));
             }
         }
         let starts: Vec<f64> = missing
             .iter()
-            .map(|v| stream::first_shown_s(design, trial, &v.id, v.frames(), v.fps))
+            .map(|v| stream::first_shown_s(design, trial, &v.id, v.frames, v.fps))
             .collect();
-        Ok(Loader::start(missing, &starts))
+        Ok(Loader::start(self.store.clone(), missing, &starts))
     }
 
     /// Start loading `next`'s videos unless a prefetch is already under way.

@@ -7,14 +7,13 @@ mod trial;
 use super::prefetch::VideoCache;
 use super::screens;
 use super::video_painter::Screen;
+use crate::frame_store::FrameStore;
 use crate::layout::VideoLayout;
 use crate::log::Display;
 use crate::presentation::Presentation;
 use crate::refresh::RefreshMeter;
 use crate::session::{Session, Stage, StartInfo};
 use egui::{Color32, Key, RichText, ViewportCommand};
-use renderer::manifest::Manifest;
-use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use trial::TrialView;
@@ -56,12 +55,9 @@ pub struct SessionApp {
 }
 
 impl SessionApp {
-    pub fn new(
-        session: Session,
-        manifest: Manifest,
-        manifest_path: PathBuf,
-        pacing: Pacing,
-    ) -> Self {
+    /// The app over `session`, its videos from `store` (`run`: the stimulus folder,
+    /// [`crate::frame_store::FrameDir`]).
+    pub fn new(session: Session, store: Arc<dyn FrameStore>, pacing: Pacing) -> Self {
         let keys = |names: &[String]| -> Vec<Key> {
             names
                 .iter()
@@ -76,7 +72,7 @@ impl SessionApp {
             pair2: keys(&d.keys.pair2),
             background: Color32::from_rgb(r, g, b),
             session,
-            cache: VideoCache::new(manifest, manifest_path),
+            cache: VideoCache::new(store),
             pacing,
             meter: RefreshMeter::default(),
             origin: None,
@@ -361,7 +357,7 @@ impl SessionApp {
     fn check_fits(&self, screen: Screen) -> anyhow::Result<()> {
         let d = &self.session.design().file;
         for n in crate::preflight::needed_stimuli(self.session.design()) {
-            if let Some(s) = self.cache.manifest().get(&n.id) {
+            if let Ok(s) = self.cache.store().video(&n.id) {
                 VideoLayout::new(
                     d.layout,
                     (screen.width, screen.height),

@@ -145,7 +145,7 @@ impl SessionApp {
             let r = self
                 .cache
                 .video(&view.trial.reference_stimulus, view.loader.as_ref());
-            let (frames, fps) = r.map_or((1, 30.0), |r| (r.source.frames(), r.source.fps));
+            let (frames, fps) = r.map_or((1, 30.0), |r| (r.source.frames, r.source.fps));
             view.presentation = Some(Presentation::new(self.session.design(), frames, fps));
         }
         if done {
