@@ -89,6 +89,8 @@ pub struct GroupModel {
     /// The population JND (the typical subject's, u = 0) in ln spp, and its standard error.
     pub ln_jnd: f64,
     pub ln_jnd_se: Option<f64>,
+    /// Its cluster-robust (sandwich, CR1) standard error, subjects as clusters.
+    pub ln_jnd_robust_se: Option<f64>,
     /// The population JND as the data support it (never extrapolated).
     pub jnd: Threshold,
     /// Wald interval, Student t with subjects - 1 df.
@@ -229,6 +231,7 @@ pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> 
         subjects: n,
         ln_jnd: t,
         ln_jnd_se: se,
+        ln_jnd_robust_se: e.robust_se(0),
         jnd: threshold_of(t, lo, hi, levels),
         ci_lower: se.map(|s| bound(t - tq * s)),
         ci_upper: se.map(|s| bound(t + tq * s)),
@@ -387,6 +390,15 @@ mod tests {
             );
             // The SE of the population threshold includes the spread: at least sigma / sqrt(S).
             assert!(t_se > 0.9 * e.params.sigma / 40f64.sqrt(), "{t_se}");
+            // Where the model is right the robust (sandwich) SE estimates the same variance:
+            // a variance estimated from n clusters has a relative SD of about sqrt(2 / (n -
+            // 1)), so the ratio of SEs is within 3 x sqrt(1 / (2 (n - 1))) = 0.34 of 1. The
+            // scores sum to the total likelihood's gradient, 0 at the optimum.
+            let robust = e.robust_se(0).unwrap();
+            assert!((robust / t_se - 1.0).abs() < 0.34, "{robust} vs {t_se}");
+            let total: f64 = e.scores.iter().map(|g| g[0]).sum();
+            let spread = e.scores.iter().map(|g| g[0] * g[0]).sum::<f64>().sqrt();
+            assert!(total.abs() < 0.05 * spread, "{total} vs {spread}");
             // Normal-normal shrinkage: corr(E[u | y], u)^2 = 1 - E[Var(u | y)] / sigma^2; the
             // sample correlation of 40 pairs within 3 of its standard errors (1 - rho^2) /
             // sqrt(n) of that.
