@@ -12,7 +12,14 @@
 //! poisson-stratified (no difference: its power) are compared in one model each.
 //!
 //! `cargo run -p analysis --example multilevel_coverage -- <replications> <spreads, e.g.
-//! 0.3,0.9> [subjects] [coverage|tost] [first replication] [levels] [all|informative]`
+//! 0.3,0.9> [subjects] [coverage|tost] [first replication] [levels] [all|informative]
+//! [subject resamples]`
+//!
+//! Per condition the table gives the coverage of each interval of [`INTERVALS`] (the model's
+//! Wald interval, the same with its SE scaled by sqrt(n / (n - 1)), the cluster-robust CR1
+//! interval, the subject bootstrap with the given resamples (0, the default: not run), the
+//! pooled bootstrap), the mean ln error and the mean estimated between-subject SD; every
+//! replication is also written to stderr as CSV lines (`row,...`, see [`row`]) as it finishes.
 //!
 //! `levels` replaces the design's levels (`thesis`, or a list such as
 //! `1,8,27,64,125,216,343,512,729,1000`; the reference stays the highest level). With
@@ -32,7 +39,7 @@
 use analysis::bootstrap::Bound;
 use analysis::data::{Curve, Dataset, Grouping};
 use analysis::multilevel::compare::{difference, tost};
-use analysis::multilevel::{Context, MultilevelSettings, estimate, group_model};
+use analysis::multilevel::{Context, MultilevelSettings, estimate, group_model, t_quantile};
 use analysis::plan::replicate::{ReplicationSettings, replicate};
 use analysis::report::Settings;
 use experiment::{Design, Observer};
@@ -41,11 +48,30 @@ use std::path::Path;
 
 const MARGIN: f64 = 0.2;
 
+/// The intervals compared, in the table's order.
+const INTERVALS: [&str; 5] = [
+    "Wald t",
+    "Wald t, SE x sqrt(n/(n-1))",
+    "robust (CR1) t",
+    "subject bootstrap",
+    "pooled bootstrap",
+];
+
+/// One condition of one replication.
+#[derive(Default, Clone, Copy)]
+struct Cell {
+    /// Whether each of [`INTERVALS`] covers the truth (the subject bootstrap's only when run).
+    covers: [bool; 5],
+    /// ln estimate - ln truth.
+    error: f64,
+    /// The between-subject SD's estimate.
+    sigma: f64,
+}
+
 /// What one replication found.
 #[derive(Default, Clone, Copy)]
 struct Outcome {
-    /// Per condition: (multilevel covers, pooled covers, ln estimate - ln truth).
-    cells: [(bool, bool, f64); 2],
+    cells: [Cell; 2],
     /// TOST shown equivalent: at the margin, at no difference.
     at_margin: bool,
     at_zero: bool,
@@ -83,6 +109,8 @@ struct Run {
     coverage: bool,
     /// Leave the highest level (test = reference) out of the multilevel fits.
     informative: bool,
+    /// Subject-bootstrap resamples per condition (0: none).
+    subject_resamples: usize,
 }
 
 fn one(design: &Design, obs: &Observer, r: u64, run: Run) -> Outcome {
@@ -102,7 +130,7 @@ fn one(design: &Design, obs: &Observer, r: u64, run: Run) -> Outcome {
     };
     let (rep, ds) = replicate(design, obs, subjects, r, &s).expect("a replication");
     let ml = MultilevelSettings {
-        resamples: 0,
+        resamples: run.subject_resamples,
         ..MultilevelSettings::default()
     };
     let fit = s.analysis.fit;
@@ -128,11 +156,30 @@ fn one(design: &Design, obs: &Observer, r: u64, run: Run) -> Outcome {
     {
         let g = ds.groups.iter().find(|g| g.key.label == label).unwrap();
         let m = group_model(&ds, g, &cx).expect("identified");
-        let (lo, hi) = ln_interval(&m.ci_lower, &m.ci_upper);
         let (_, b) = rep.pooled.iter().find(|(k, _)| k.label == label).unwrap();
-        let (plo, phi) = ln_interval(&b.ci_lower, &b.ci_upper);
         let t = truth.ln();
-        out.cells[i] = (lo <= t && t <= hi, plo <= t && t <= phi, m.ln_jnd - t);
+        let inside = |(lo, hi): (f64, f64)| lo <= t && t <= hi;
+        // Ends beyond the tested range count as unbounded (as the report's "above range"):
+        // the truths lie inside it, so the raw ln ends decide alike.
+        let n = m.subjects as f64;
+        let tq = t_quantile(0.975, n - 1.0);
+        let around =
+            |se: Option<f64>| se.map_or((1.0, 0.0), |s| (m.ln_jnd - tq * s, m.ln_jnd + tq * s));
+        let subject_boot = m
+            .bootstrap
+            .as_ref()
+            .is_some_and(|sb| inside(ln_interval(&sb.ci_lower, &sb.ci_upper)));
+        out.cells[i] = Cell {
+            covers: [
+                inside(around(m.ln_jnd_se)),
+                inside(around(m.ln_jnd_se.map(|s| s * (n / (n - 1.0)).sqrt()))),
+                inside(around(m.ln_jnd_robust_se)),
+                subject_boot,
+                inside(ln_interval(&b.ci_lower, &b.ci_upper)),
+            ],
+            error: m.ln_jnd - t,
+            sigma: m.sigma,
+        };
     }
     let tost_of = |a: &str, b: &str| {
         let curves: Vec<&[Curve]> = [a, b]
@@ -182,21 +229,33 @@ fn main() {
         subjects,
         coverage,
         informative: args.get(7).is_none_or(|a| a != "all"),
+        subject_resamples: args.get(8).map_or(0, |a| a.parse().unwrap()),
     };
     if !coverage {
         return tost_only(&design, runs, &spreads, run);
     }
+    let columns: Vec<&str> = INTERVALS
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != 3 || run.subject_resamples > 0)
+        .map(|(_, name)| *name)
+        .collect();
     println!(
-        "| spread | replications | condition | multilevel coverage | pooled coverage | mean ln JND error | ratio | TOST at margin (size) | TOST at 0 (power) | CPU s |"
+        "| spread (SD) | replications | condition | {} | mean ln JND error | ratio | mean sigma | TOST at margin (size) | TOST at 0 (power) | CPU s |",
+        columns.join(" | ")
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|{}", "---|".repeat(columns.len() + 9));
     for spread in spreads {
         let obs = observer(spread);
         let t0 = cpu_seconds();
         let outs: Vec<Outcome> = runs
             .clone()
             .into_par_iter()
-            .map(|r| one(&design, &obs, r, run))
+            .map(|r| {
+                let o = one(&design, &obs, r, run);
+                row(spread, r, &o);
+                o
+            })
             .collect();
         let cpu = cpu_seconds() - t0;
         let n = outs.len() as f64;
@@ -206,14 +265,43 @@ fn main() {
             .iter()
             .enumerate()
         {
-            let ml = outs.iter().filter(|o| o.cells[i].0).count() as f64 / n;
-            let pooled = outs.iter().filter(|o| o.cells[i].1).count() as f64 / n;
-            let bias = outs.iter().map(|o| o.cells[i].2).sum::<f64>() / n;
+            let rates: Vec<String> = (0..INTERVALS.len())
+                .filter(|&k| k != 3 || run.subject_resamples > 0)
+                .map(|k| {
+                    let covered = outs.iter().filter(|o| o.cells[i].covers[k]).count();
+                    format!("{:.3}", covered as f64 / n)
+                })
+                .collect();
+            let bias = outs.iter().map(|o| o.cells[i].error).sum::<f64>() / n;
+            let sigma = outs.iter().map(|o| o.cells[i].sigma).sum::<f64>() / n;
             println!(
-                "| {spread} | {reps} | {label} | {ml:.3} | {pooled:.3} | {bias:+.4} | {:.3} | {size:.3} | {power:.3} | {cpu:.0} |",
+                "| {spread} ({:.3}) | {reps} | {label} | {} | {bias:+.4} | {:.3} | {sigma:.3} | {size:.3} | {power:.3} | {cpu:.0} |",
+                spread / 12f64.sqrt(),
+                rates.join(" | "),
                 bias.exp()
             );
         }
+    }
+}
+
+/// One replication as CSV lines on stderr, one per condition, as it finishes (a long run
+/// stopped early still leaves its finished replications): spread, replication, condition,
+/// each interval's 0/1 in [`INTERVALS`]' order, ln error, sigma, TOST at margin, at zero.
+fn row(spread: f64, r: u64, o: &Outcome) {
+    for (i, c) in o.cells.iter().enumerate() {
+        let covers: Vec<&str> = c
+            .covers
+            .iter()
+            .map(|&b| if b { "1" } else { "0" })
+            .collect();
+        eprintln!(
+            "row,{spread},{r},{i},{},{:.6},{:.6},{},{}",
+            covers.join(","),
+            c.error,
+            c.sigma,
+            u8::from(o.at_margin),
+            u8::from(o.at_zero)
+        );
     }
 }
 

@@ -9,7 +9,7 @@
 //! does not assume it: resampling whole subjects keeps each subject's two curves together.
 
 use super::subjects::{SubjectBootstrap, replicates, summarize};
-use super::{Context, Estimate, estimate, t_quantile};
+use super::{Context, Estimate, fit_informative, informative, t_quantile};
 use crate::comparisons::PairOrder;
 use crate::data::{Curve, Dataset, Group, Grouping};
 use crate::sigmoid::erfc;
@@ -78,9 +78,10 @@ pub fn compare_pair(
     b: &Group,
     cx: &Context,
 ) -> Option<ModelComparison> {
-    let curves: [&[Curve]; 2] = [&a.per_subject, &b.per_subject];
-    let (full, counts) = estimate(&curves, false, cx, None)?;
-    let (null, _) = estimate(&curves, true, cx, None)?;
+    let kept = [a, b].map(|g| informative(&g.per_subject, cx.same_video_levels));
+    let curves: [&[Curve]; 2] = [&kept[0], &kept[1]];
+    let (full, counts) = fit_informative(&curves, false, cx, None)?;
+    let (null, _) = fit_informative(&curves, true, cx, None)?;
     let n = counts.subjects.len();
     let df = (n - 1) as f64;
     let (d, se) = difference(&full);

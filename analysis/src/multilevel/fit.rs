@@ -18,12 +18,59 @@ pub struct Estimate {
     pub covariance: Option<Vec<Vec<f64>>>,
     /// Each subject's offset given the data at the estimate (shrunken estimates).
     pub subjects: Vec<Integral>,
+    /// The subjects' scores: the gradient of each subject's ln marginal likelihood at the
+    /// estimate (rows in subject order; 0 at coordinates at a bound). Computed with the
+    /// covariance; empty otherwise.
+    pub scores: Vec<Vec<f64>>,
 }
 
 impl Estimate {
     /// Standard error of coordinate i, if the covariance exists and i is not at a bound.
     pub fn se(&self, i: usize) -> Option<f64> {
         let v = self.covariance.as_ref()?[i][i];
+        (v > 0.0).then(|| v.sqrt())
+    }
+
+    /// The cluster-robust (sandwich) covariance with subjects as clusters, scaled by
+    /// n / (n - 1) (CR1): C (sum_s g_s g_s^T) C n / (n - 1), C the model's covariance and g_s
+    /// subject s's score. It needs neither the normal spread of the subjects nor the binomial
+    /// model to be right, only independent subjects (Liang and Zeger 1986).
+    pub fn robust_covariance(&self) -> Option<Vec<Vec<f64>>> {
+        let c = self.covariance.as_ref()?;
+        let n = self.scores.len();
+        if n < 2 {
+            return None;
+        }
+        let d = c.len();
+        let mut meat = vec![vec![0.0; d]; d];
+        for g in &self.scores {
+            for i in 0..d {
+                for j in 0..d {
+                    meat[i][j] += g[i] * g[j];
+                }
+            }
+        }
+        let scale = n as f64 / (n - 1) as f64;
+        let product = |a: &[Vec<f64>], b: &[Vec<f64>]| -> Vec<Vec<f64>> {
+            (0..d)
+                .map(|i| {
+                    (0..d)
+                        .map(|j| (0..d).map(|k| a[i][k] * b[k][j]).sum())
+                        .collect()
+                })
+                .collect()
+        };
+        let v = product(&product(c, &meat), c);
+        Some(
+            v.into_iter()
+                .map(|r| r.into_iter().map(|x| scale * x).collect())
+                .collect(),
+        )
+    }
+
+    /// The robust standard error of coordinate i ([`Self::robust_covariance`]).
+    pub fn robust_se(&self, i: usize) -> Option<f64> {
+        let v = self.robust_covariance()?[i][i];
         (v > 0.0).then(|| v.sqrt())
     }
 }
@@ -60,11 +107,20 @@ pub fn estimate(
     };
     let params = layout.params(&v, &bounds);
     let fixed = layout.at_bound(&v, &bounds);
+    let per_subject = |w: &[f64]| -> Vec<f64> {
+        let p = layout.params(w, &bounds);
+        lik.subjects(&p).iter().map(|i| i.ln_value).collect()
+    };
     Estimate {
         covariance: if with_covariance {
             covariance(&f, &v, &fixed)
         } else {
             None
+        },
+        scores: if with_covariance {
+            scores(&per_subject, &v, &fixed)
+        } else {
+            Vec::new()
         },
         subjects: lik.subjects(&params),
         layout,
@@ -130,6 +186,25 @@ fn covariance(f: &Objective, v: &[f64], fixed: &[bool]) -> Option<Vec<Vec<f64>>>
     Some(cov)
 }
 
+/// Each subject's gradient of its ln marginal likelihood at `v` by central differences (step
+/// 2e-3, as the Hessian), 0 at the `fixed` coordinates.
+fn scores(per_subject: &dyn Fn(&[f64]) -> Vec<f64>, v: &[f64], fixed: &[bool]) -> Vec<Vec<f64>> {
+    let h = 2e-3;
+    let n = per_subject(v).len();
+    let mut g = vec![vec![0.0; v.len()]; n];
+    for i in (0..v.len()).filter(|&i| !fixed[i]) {
+        let mut w = v.to_vec();
+        w[i] = v[i] + h;
+        let up = per_subject(&w);
+        w[i] = v[i] - h;
+        let down = per_subject(&w);
+        for s in 0..n {
+            g[s][i] = (up[s] - down[s]) / (2.0 * h);
+        }
+    }
+    g
+}
+
 /// The inverse of a symmetric positive definite matrix by Cholesky; `None` if it is not.
 pub fn spd_inverse(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
     let n = a.len();
@@ -187,5 +262,42 @@ mod tests {
         }
         assert!(spd_inverse(&[vec![1.0, 2.0], vec![2.0, 1.0]]).is_none());
         assert!(spd_inverse(&[vec![0.0]]).is_none());
+    }
+
+    #[test]
+    fn robust_covariance_is_the_scaled_sandwich() {
+        // C = diag(2, 1), scores (1, 0), (-1, 2), (0, -2): meat [[2, -2], [-2, 8]], C meat C
+        // = [[8, -4], [-4, 8]], times n / (n - 1) = 3/2.
+        let e = Estimate {
+            layout: Layout {
+                groups: 1,
+                shared_threshold: false,
+                free_lapse: false,
+            },
+            bounds: Bounds {
+                t: (0.0, 1.0),
+                ln_beta: (0.0, 1.0),
+                ln_sigma: (0.0, 1.0),
+            },
+            vector: vec![0.0; 2],
+            params: Params {
+                thresholds: vec![0.0],
+                slopes: vec![1.0],
+                sigma: 1.0,
+                lapse: 0.0,
+            },
+            log_likelihood: 0.0,
+            covariance: Some(vec![vec![2.0, 0.0], vec![0.0, 1.0]]),
+            subjects: Vec::new(),
+            scores: vec![vec![1.0, 0.0], vec![-1.0, 2.0], vec![0.0, -2.0]],
+        };
+        let v = e.robust_covariance().unwrap();
+        assert_eq!(v, vec![vec![12.0, -6.0], vec![-6.0, 12.0]]);
+        assert_eq!(e.robust_se(0), Some(12f64.sqrt()));
+        let one = Estimate {
+            scores: vec![vec![1.0, 0.0]],
+            ..e
+        };
+        assert!(one.robust_covariance().is_none());
     }
 }

@@ -65,7 +65,9 @@ pub struct Context<'a> {
     pub settings: &'a MultilevelSettings,
     /// Levels whose trials showed the reference against itself ([`Dataset::same_video_levels`]):
     /// every observer is at chance there whatever its threshold, which the model's function
-    /// (at chance only far above the threshold) would read as a lower threshold.
+    /// (at chance only far above the threshold) would read as a lower threshold. Dropped once
+    /// by [`informative`] where a model takes its groups' curves ([`estimate`], [`group_model`],
+    /// [`compare::compare_pair`]); the fits, starts and bootstraps below see only the rest.
     pub same_video_levels: &'a [u32],
 }
 
@@ -89,6 +91,8 @@ pub struct GroupModel {
     /// The population JND (the typical subject's, u = 0) in ln spp, and its standard error.
     pub ln_jnd: f64,
     pub ln_jnd_se: Option<f64>,
+    /// Its cluster-robust (sandwich, CR1) standard error, subjects as clusters.
+    pub ln_jnd_robust_se: Option<f64>,
     /// The population JND as the data support it (never extrapolated).
     pub jnd: Threshold,
     /// Wald interval, Student t with subjects - 1 df.
@@ -110,7 +114,7 @@ pub fn t_quantile(p: f64, df: f64) -> f64 {
     StudentsT::new(0.0, 1.0, df).expect("df > 0").inverse_cdf(p)
 }
 
-/// Starting vectors: each group's pooled fit without the same-video levels (or the middle of the range with a moderate slope
+/// Starting vectors: each group's pooled fit (or the middle of the range with a moderate slope
 /// when the pooled fit is a step), with a narrow and a wide between-subject SD.
 fn starts(curves: &[&[Curve]], layout: Layout, cx: &Context, counts: &Counts) -> Vec<Vec<f64>> {
     let span = (counts.x_hi - counts.x_lo).max(1.0);
@@ -118,17 +122,11 @@ fn starts(curves: &[&[Curve]], layout: Layout, cx: &Context, counts: &Counts) ->
     let per_group: Vec<(f64, f64)> = curves
         .iter()
         .map(|c| {
-            let mut pooled = Curve::default();
-            for s in c.iter() {
-                pooled = Curve::from_counts(
-                    pooled
-                        .points
-                        .iter()
-                        .chain(&s.points)
-                        .filter(|p| !cx.same_video_levels.contains(&p.level))
-                        .map(|p| (p.level, p.correct, p.trials)),
-                );
-            }
+            let pooled = Curve::from_counts(
+                c.iter()
+                    .flat_map(|s| &s.points)
+                    .map(|p| (p.level, p.correct, p.trials)),
+            );
             let f = fit_pooled(&pooled, cx.fit);
             match f
                 .model()
@@ -155,15 +153,45 @@ fn starts(curves: &[&[Curve]], layout: Layout, cx: &Context, counts: &Counts) ->
         .collect()
 }
 
-/// Fit one model of `curves[k][s]` (group k, subject s); `None` when it is not identified
-/// (fewer than two subjects with data, or a single tested level).
+/// The curves without their points at the same-video levels: the one place they are dropped,
+/// when a model's groups are taken from the data.
+pub fn informative(curves: &[Curve], same_video_levels: &[u32]) -> Vec<Curve> {
+    curves
+        .iter()
+        .map(|c| Curve {
+            points: (c.points.iter())
+                .filter(|p| !same_video_levels.contains(&p.level))
+                .copied()
+                .collect(),
+        })
+        .collect()
+}
+
+/// Fit one model of `curves[k][s]` (group k, subject s) with their same-video levels left out
+/// ([`informative`]); `None` when it is not identified (fewer than two subjects with data, or
+/// a single tested level).
 pub fn estimate(
     curves: &[&[Curve]],
     shared_threshold: bool,
     cx: &Context,
     warm: Option<&[f64]>,
 ) -> Option<(Estimate, Counts)> {
-    let counts = Counts::new(curves, cx.same_video_levels);
+    let kept: Vec<Vec<Curve>> = curves
+        .iter()
+        .map(|c| informative(c, cx.same_video_levels))
+        .collect();
+    let refs: Vec<&[Curve]> = kept.iter().map(|c| c.as_slice()).collect();
+    fit_informative(&refs, shared_threshold, cx, warm)
+}
+
+/// [`estimate`] of curves already without their same-video levels.
+fn fit_informative(
+    curves: &[&[Curve]],
+    shared_threshold: bool,
+    cx: &Context,
+    warm: Option<&[f64]>,
+) -> Option<(Estimate, Counts)> {
+    let counts = Counts::new(curves);
     if !counts.identified() {
         return None;
     }
@@ -189,8 +217,9 @@ pub fn estimate(
 
 /// The multilevel model of one group of the data, with its subject bootstrap.
 pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> {
-    let curves: [&[Curve]; 1] = [&g.per_subject];
-    let (e, counts) = estimate(&curves, false, cx, None)?;
+    let kept = informative(&g.per_subject, cx.same_video_levels);
+    let curves: [&[Curve]; 1] = [&kept];
+    let (e, counts) = fit_informative(&curves, false, cx, None)?;
     let n = counts.subjects.len();
     let df = (n - 1) as f64;
     let z = 1.0 - 0.5 * (1.0 - cx.settings.confidence);
@@ -200,13 +229,7 @@ pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> 
     let se = e.se(0);
     let lo = counts.x_lo;
     let hi = counts.x_hi;
-    let kept = Curve {
-        points: (g.pooled.points.iter())
-            .filter(|p| !cx.same_video_levels.contains(&p.level))
-            .copied()
-            .collect(),
-    };
-    let levels = (lowest(&kept), highest(&kept));
+    let levels = counts.levels;
     let bound = |x: f64| bound_of(x, lo, hi, levels);
     let si = e.layout.sigma_index();
     let shrunken = counts
@@ -229,6 +252,7 @@ pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> 
         subjects: n,
         ln_jnd: t,
         ln_jnd_se: se,
+        ln_jnd_robust_se: e.robust_se(0),
         jnd: threshold_of(t, lo, hi, levels),
         ci_lower: se.map(|s| bound(t - tq * s)),
         ci_upper: se.map(|s| bound(t + tq * s)),
@@ -251,14 +275,6 @@ pub fn group_models(ds: &Dataset, cx: &Context) -> Vec<GroupModel> {
         .iter()
         .filter_map(|g| group_model(ds, g, cx))
         .collect()
-}
-
-fn lowest(c: &Curve) -> u32 {
-    c.points.first().map_or(1, |p| p.level)
-}
-
-fn highest(c: &Curve) -> u32 {
-    c.points.last().map_or(1, |p| p.level)
 }
 
 /// ln spp as a threshold inside the tested range, or beyond it with the bound.
@@ -387,6 +403,15 @@ mod tests {
             );
             // The SE of the population threshold includes the spread: at least sigma / sqrt(S).
             assert!(t_se > 0.9 * e.params.sigma / 40f64.sqrt(), "{t_se}");
+            // Where the model is right the robust (sandwich) SE estimates the same variance:
+            // a variance estimated from n clusters has a relative SD of about sqrt(2 / (n -
+            // 1)), so the ratio of SEs is within 3 x sqrt(1 / (2 (n - 1))) = 0.34 of 1. The
+            // scores sum to the total likelihood's gradient, 0 at the optimum.
+            let robust = e.robust_se(0).unwrap();
+            assert!((robust / t_se - 1.0).abs() < 0.34, "{robust} vs {t_se}");
+            let total: f64 = e.scores.iter().map(|g| g[0]).sum();
+            let spread = e.scores.iter().map(|g| g[0] * g[0]).sum::<f64>().sqrt();
+            assert!(total.abs() < 0.05 * spread, "{total} vs {spread}");
             // Normal-normal shrinkage: corr(E[u | y], u)^2 = 1 - E[Var(u | y)] / sigma^2; the
             // sample correlation of 40 pairs within 3 of its standard errors (1 - rho^2) /
             // sqrt(n) of that.

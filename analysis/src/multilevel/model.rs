@@ -34,6 +34,8 @@ pub struct Counts {
     pub subjects: Vec<usize>,
     rows: Vec<Vec<Count>>,
     pub groups: usize,
+    /// The lowest and highest tested level (1 and 1 without data).
+    pub levels: (u32, u32),
     /// Tested range in ln spp, and the smallest gap between tested levels.
     pub x_lo: f64,
     pub x_hi: f64,
@@ -41,12 +43,14 @@ pub struct Counts {
 }
 
 impl Counts {
-    /// `curves[k][s]`: subject s's curve in group k, without its points at the levels `skip`.
-    pub fn new(curves: &[&[Curve]], skip: &[u32]) -> Self {
+    /// `curves[k][s]`: subject s's curve in group k (without the same-video levels:
+    /// [`super::informative`]).
+    pub fn new(curves: &[&[Curve]]) -> Self {
         let n_subjects = curves.iter().map(|c| c.len()).max().unwrap_or(0);
         let mut subjects = Vec::new();
         let mut rows = Vec::new();
         let mut xs = Vec::new();
+        let mut levels: Option<(u32, u32)> = None;
         for s in 0..n_subjects {
             let row: Vec<Count> = curves
                 .iter()
@@ -55,7 +59,6 @@ impl Counts {
                     c.get(s)
                         .into_iter()
                         .flat_map(move |c| &c.points)
-                        .filter(|p| !skip.contains(&p.level))
                         .map(move |p| Count {
                             group,
                             x: p.x(),
@@ -64,6 +67,14 @@ impl Counts {
                         })
                 })
                 .collect();
+            for p in curves
+                .iter()
+                .filter_map(|c| c.get(s))
+                .flat_map(|c| &c.points)
+            {
+                let (lo, hi) = levels.get_or_insert((p.level, p.level));
+                (*lo, *hi) = ((*lo).min(p.level), (*hi).max(p.level));
+            }
             if !row.is_empty() {
                 xs.extend(row.iter().map(|c| c.x));
                 subjects.push(s);
@@ -80,6 +91,7 @@ impl Counts {
             subjects,
             rows,
             groups: curves.len(),
+            levels: levels.unwrap_or((1, 1)),
             x_lo: xs.first().copied().unwrap_or(0.0),
             x_hi: xs.last().copied().unwrap_or(0.0),
             min_gap,

@@ -3,7 +3,7 @@
 //! Resample r draws subject j as `hash(seed, [key, r, j])`, so the replicates do not depend on
 //! the thread count or on which other groups are analyzed.
 
-use super::{Context, Estimate, bound_of, estimate};
+use super::{Context, Estimate, bound_of, fit_informative};
 use crate::bootstrap::Bound;
 use crate::data::Curve;
 use rayon::prelude::*;
@@ -43,7 +43,8 @@ pub fn resample_subjects(with_data: &[usize], seed: u64, key: u64, r: u64) -> Ve
         .collect()
 }
 
-/// The statistic `stat` of the model of `curves` over subject resamples, refitted from `warm`.
+/// The statistic `stat` of the model of `curves` (without their same-video levels) over subject
+/// resamples, refitted from `warm`.
 pub fn replicates(
     curves: &[&[Curve]],
     shared_threshold: bool,
@@ -52,7 +53,7 @@ pub fn replicates(
     key: u64,
     stat: impl Fn(&Estimate) -> f64 + Sync,
 ) -> Vec<f64> {
-    let with_data = super::model::Counts::new(curves, cx.same_video_levels).subjects;
+    let with_data = super::model::Counts::new(curves).subjects;
     (0..cx.settings.resamples as u64)
         .into_par_iter()
         .filter_map(|r| {
@@ -62,7 +63,7 @@ pub fn replicates(
                 .map(|c| pick.iter().map(|&s| c[s].clone()).collect())
                 .collect();
             let refs: Vec<&[Curve]> = drawn.iter().map(|c| c.as_slice()).collect();
-            estimate(&refs, shared_threshold, cx, Some(warm)).map(|(e, _)| stat(&e))
+            fit_informative(&refs, shared_threshold, cx, Some(warm)).map(|(e, _)| stat(&e))
         })
         .collect()
 }
