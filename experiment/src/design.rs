@@ -354,12 +354,8 @@ impl Design {
 /// SHA-256 of the canonical form: serde_json's map is sorted by key, and `to_string` is compact,
 /// so whitespace and key order in the file do not change the hash but any value does.
 fn canonical_hash(value: &serde_json::Value) -> String {
-    use sha2::Digest;
     let canonical = serde_json::to_string(value).expect("a parsed Value serializes");
-    sha2::Sha256::digest(canonical.as_bytes())
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
+    renderer::digest::sha256_hex(canonical.as_bytes())
 }
 
 /// Every check a session relies on; the message names the field.

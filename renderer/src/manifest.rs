@@ -178,10 +178,7 @@ impl ContentHash {
 
     /// The hash as lowercase hex.
     pub fn finish(self) -> String {
-        sha2::Digest::finalize(self.0)
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect()
+        crate::digest::hex(&sha2::Digest::finalize(self.0))
     }
 }
 
