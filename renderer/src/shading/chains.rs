@@ -65,6 +65,11 @@ impl Tracer<'_> {
         self.count(live);
         // Rays that surely hit nothing see the sky without the scalar path's walk.
         let maybe = self.world.may_hit_lanes(ray, live);
+        if maybe == 0 {
+            // A packet of sky only (most of the plane scene's): no chains to keep or fold
+            // (an empty chain's fold is its sky), and the lookup is zero in the other lanes.
+            return self.sky_lanes(&ray.dir, live);
+        }
         let mut sky = live & !maybe;
         let mut dirs = ray.dir;
         let mut chains = [Chain::default(); LANES];
