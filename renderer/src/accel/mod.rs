@@ -11,6 +11,7 @@ pub mod chain;
 mod cull;
 pub mod packet;
 pub mod pose;
+mod slices;
 pub mod swept;
 pub mod world;
 

@@ -4,7 +4,8 @@
 //! Top level: a 4-wide BVH ([`Bvh4`], collapsed from obvhs's binary one) over the instances'
 //! world bounds swept over this frame's shutter ([`swept_bounds`]), padded for rounding,
 //! rebuilt per frame (`fastest_build`: one instance per leaf, so an instance's box is never
-//! merged with its neighbours'). The top level's leaf test
+//! merged with its neighbours'); in a world where something moves, one per piece of the
+//! shutter, each ray walking its time's ([`Slices`]). The top level's leaf test
 //! moves the ray into the instance's object space at the ray's time ([`PoseOverTime`]) and asks
 //! the shape. Unbounded planes cannot be boxed: every ray tests them after the top level.
 //!
@@ -15,22 +16,21 @@
 use super::cull::CullBox;
 use super::packet::{RayPacket, SmallWorld};
 use super::pose::{Pose, PoseCache, PoseOverTime};
+use super::slices::{SLICES, Slices};
 use super::swept::swept_bounds;
 use super::{Instance, SurfaceHit};
-use crate::bvh::{BoxRay, Bvh4};
+use crate::bvh::BoxRay;
 use crate::geometry::bounds::SLACK_PER_DIAGONAL;
 use crate::geometry::{Bounds, Ray, ShapeHit};
-use obvhs::BvhBuildParams;
-use obvhs::bvh2::builder::build_bvh2;
-use std::time::Duration;
 
 /// Every instance, ready to be traced for the shutter interval `[t0, t1]` of one frame.
 #[derive(Clone)]
 pub struct World {
     instances: Vec<Instance>,
     poses: Vec<PoseOverTime>,
-    /// Top-level BVH over the bounded instances; its primitive `p` is instance `bounded[p]`.
-    top: Bvh4,
+    /// Top-level BVHs over the bounded instances, one per piece of the shutter; their
+    /// primitive `p` is instance `bounded[p]`.
+    top: Slices,
     bounded: Vec<u32>,
     /// Instances without finite bounds (infinite planes), tested by every ray.
     unbounded: Vec<u32>,
@@ -62,6 +62,16 @@ impl World {
     /// Build for rays whose times lie in `[shutter.0, shutter.1]`. Rays at other times are
     /// still traced correctly, by testing every instance (slow, but never wrong).
     pub fn build(instances: Vec<Instance>, shutter: (f32, f32)) -> Self {
+        Self::build_sliced(instances, shutter, SLICES)
+    }
+
+    /// [`World::build`] with the top level cut into `pieces` pieces of the shutter where
+    /// something moves (one where nothing does).
+    pub(crate) fn build_sliced(
+        instances: Vec<Instance>,
+        shutter: (f32, f32),
+        pieces: usize,
+    ) -> Self {
         let shutter = (shutter.0.min(shutter.1), shutter.0.max(shutter.1));
         let poses: Vec<_> = instances
             .iter()
@@ -76,19 +86,11 @@ impl World {
         let scene = bounded
             .iter()
             .fold(Bounds::EMPTY, |b, &i| b.union(swept[i as usize]));
-        let boxes: Vec<_> = bounded
-            .iter()
-            .map(|&i| pad_top_level(swept[i as usize], scene.diagonal()).to_aabb())
-            .collect();
-        let top = if boxes.is_empty() {
-            Bvh4::default()
-        } else {
-            Bvh4::from_bvh2(&build_bvh2(
-                &boxes,
-                BvhBuildParams::fastest_build(),
-                &mut Duration::default(),
-            ))
-        };
+        let still = poses.iter().all(PoseOverTime::is_fixed);
+        let pieces = if still { 1 } else { pieces };
+        let top = Slices::build(&instances, &bounded, shutter, pieces, |b| {
+            pad_top_level(b, scene.diagonal())
+        });
         let small = SmallWorld::new(&instances, &poses);
         let padded: Vec<Bounds> = bounded
             .iter()
@@ -164,9 +166,10 @@ impl World {
         };
         if self.in_shutter(ray) {
             if let Some(boxes) = BoxRay::new(ray) {
-                t_max = self.top.closest(&boxes, t_max, |leaf, t_max| {
+                let top = self.top.at(ray.time);
+                t_max = top.closest(&boxes, t_max, |leaf, t_max| {
                     let mut t = t_max;
-                    for &p in self.top.leaf(leaf) {
+                    for &p in top.leaf(leaf) {
                         t = t.min(visit(self.bounded[p as usize], t));
                     }
                     t
@@ -212,9 +215,9 @@ impl World {
             return (0..self.instances.len() as u32).any(blocks);
         }
         let top = BoxRay::new(ray).is_some_and(|boxes| {
-            self.top.any(&boxes, ray.t_max, |leaf| {
-                self.top
-                    .leaf(leaf)
+            let top = self.top.at(ray.time);
+            top.any(&boxes, ray.t_max, |leaf| {
+                top.leaf(leaf)
                     .iter()
                     .any(|&p| blocks(self.bounded[p as usize]))
             })
