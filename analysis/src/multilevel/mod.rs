@@ -9,7 +9,8 @@
 //! with adaptive Gauss-Hermite quadrature over each subject's offset (as lme4's `glmer` with
 //! `nAGQ` > 1, the guess rate and lapse built into the link). Two intervals for the population
 //! JND: Wald from the observed information (Student t with subjects - 1 df), and a subject
-//! bootstrap (resampling whole subjects and refitting), the simpler one.
+//! bootstrap (resampling whole subjects and refitting), the simpler one. [`profile`] gives a
+//! third, the profile-likelihood interval (measured beside the others, not reported).
 //!
 //! [`compare`] compares groups (scenes, point sets) within one model: differences in ln JND
 //! with Wald and likelihood-ratio tests, and two one-sided tests of equivalence.
@@ -17,6 +18,7 @@
 pub mod compare;
 mod fit;
 pub mod model;
+pub mod profile;
 pub mod quadrature;
 mod subjects;
 
@@ -307,7 +309,7 @@ mod tests {
     };
     use renderer::hash::{hash, unit_f64};
 
-    fn cx(settings: &MultilevelSettings) -> Context<'_> {
+    pub(super) fn cx(settings: &MultilevelSettings) -> Context<'_> {
         static FIT: FitSettings = FitSettings {
             sigmoid: Sigmoid::Logistic,
             lapse: LapseMode::Fixed,
@@ -323,7 +325,13 @@ mod tests {
 
     /// Subjects with thresholds normal around `jnd` spp (SD `sigma` in ln spp), logistic slope
     /// 1.5, `trials` per thesis level; returns the curves and the subjects' true ln thresholds.
-    fn subjects(n: usize, jnd: f64, sigma: f64, trials: u32, seed: u64) -> (Vec<Curve>, Vec<f64>) {
+    pub(super) fn subjects(
+        n: usize,
+        jnd: f64,
+        sigma: f64,
+        trials: u32,
+        seed: u64,
+    ) -> (Vec<Curve>, Vec<f64>) {
         (0..n as u64)
             .map(|s| {
                 let z = Sigmoid::Normal.inverse(unit_f64(hash(seed, &[0x0ff5, s])).max(1e-12));
