@@ -13,7 +13,8 @@
 //!
 //! `cargo run -p analysis --example multilevel_coverage -- <replications> <spreads, e.g.
 //! 0.3,0.9> [subjects] [coverage|tost] [first replication] [levels] [all|informative]
-//! [subject resamples] [source=session|model] [tost=yes|no] [nodes=15] [repeats=4]`
+//! [subject resamples] [source=session|model] [offsets=normal|uniform] [tost=yes|no] [nodes=15]
+//! [repeats=4]`
 //!
 //! Per condition the table gives the coverage of each interval of [`INTERVALS`] (the model's
 //! Wald interval, the same with its SE scaled by sqrt(n / (n - 1)), the cluster-robust CR1
@@ -27,7 +28,8 @@
 //! truth, the same offset in both conditions, logistic slope 1.5, guess 1/2, no lapse, the
 //! design's repeats at each of its levels but the reference's), so the estimator is measured
 //! where the model is right (no pooled bootstrap, no TOST); `repeats=N` replaces the design's
-//! repeats there. `tost=no` skips the TOST's two two-group fits per replication in a coverage
+//! repeats there, and `offsets=uniform` draws the offsets uniform with SD `spread` instead (the
+//! session machine's shape, without the session machine). `tost=no` skips the TOST's two two-group fits per replication in a coverage
 //! run; `nodes=N` sets the quadrature's nodes per subject (15, the default of `analyze`).
 //!
 //! `levels` replaces the design's levels (`thesis`, or a list such as
@@ -144,6 +146,8 @@ struct Run {
     nodes: usize,
     /// Trials per level of the model source.
     repeats: u32,
+    /// The model source's offsets uniform (with the same SD) instead of normal.
+    uniform: bool,
 }
 
 /// Whether column k of [`INTERVALS`] is measured in this run.
@@ -258,7 +262,8 @@ fn cell(curves: &[Curve], cx: &Context, t: f64, subject_boot: Option<bool>, pool
 }
 
 /// Replication `r` with data from the model's own process (`source=model`): subject s's
-/// offset sigma z, z normal from `hash(seed, [r, s])`, the same in both conditions.
+/// offset sigma z, z standard normal (or uniform over +-sqrt(3)) from `hash(seed, [r, s])`, the
+/// same in both conditions.
 fn from_model(design: &Design, sigma: f64, r: u64, run: Run) -> Outcome {
     const SEED: u64 = 0x0de1;
     let top = design.file.levels.iter().copied().max().unwrap_or(0);
@@ -266,7 +271,15 @@ fn from_model(design: &Design, sigma: f64, r: u64, run: Run) -> Outcome {
         .filter(|&l| l != top)
         .collect();
     let offsets: Vec<f64> = (0..run.subjects as u64)
-        .map(|s| sigma * Sigmoid::Normal.inverse(unit_f64(hash(SEED, &[r, s])).max(1e-12)))
+        .map(|s| {
+            let p = unit_f64(hash(SEED, &[r, s])).max(1e-12);
+            let z = if run.uniform {
+                12f64.sqrt() * (p - 0.5)
+            } else {
+                Sigmoid::Normal.inverse(p)
+            };
+            sigma * z
+        })
         .collect();
     let fit = Settings::default().fit;
     let ml = MultilevelSettings {
@@ -338,6 +351,7 @@ fn main() {
         subject_resamples: args.get(8).map_or(0, |a| a.parse().unwrap()),
         model_source: option("source", "session") == "model",
         tost: option("tost", "yes") == "yes",
+        uniform: option("offsets", "normal") == "uniform",
         nodes: option("nodes", "15").parse().expect("nodes=N"),
         repeats: (option("repeats", &design.file.repeats.to_string()))
             .parse()
