@@ -13,13 +13,24 @@
 //!
 //! `cargo run -p analysis --example multilevel_coverage -- <replications> <spreads, e.g.
 //! 0.3,0.9> [subjects] [coverage|tost] [first replication] [levels] [all|informative]
-//! [subject resamples]`
+//! [subject resamples] [source=session|model] [offsets=normal|uniform] [tost=yes|no] [nodes=15]
+//! [repeats=4]`
 //!
 //! Per condition the table gives the coverage of each interval of [`INTERVALS`] (the model's
 //! Wald interval, the same with its SE scaled by sqrt(n / (n - 1)), the cluster-robust CR1
 //! interval, the subject bootstrap with the given resamples (0, the default: not run), the
-//! pooled bootstrap), the mean ln error and the mean estimated between-subject SD; every
-//! replication is also written to stderr as CSV lines (`row,...`, see [`row`]) as it finishes.
+//! pooled bootstrap, the profile-likelihood interval), the mean ln error, the mean estimated
+//! between-subject SD and slope, and how often sigma sat at its bound; every replication is
+//! also written to stderr as CSV lines (`row,...`, see [`row`]) as it finishes.
+//!
+//! `source=model` bypasses the session machine: each condition's subjects are drawn from the
+//! multilevel model's own generative process (ln thresholds normal with SD `spread` around the
+//! truth, the same offset in both conditions, logistic slope 1.5, guess 1/2, no lapse, the
+//! design's repeats at each of its levels but the reference's), so the estimator is measured
+//! where the model is right (no pooled bootstrap, no TOST); `repeats=N` replaces the design's
+//! repeats there, and `offsets=uniform` draws the offsets uniform with SD `spread` instead (the
+//! session machine's shape, without the session machine). `tost=no` skips the TOST's two two-group fits per replication in a coverage
+//! run; `nodes=N` sets the quadrature's nodes per subject (15, the default of `analyze`).
 //!
 //! `levels` replaces the design's levels (`thesis`, or a list such as
 //! `1,8,27,64,125,216,343,512,729,1000`; the reference stays the highest level). With
@@ -39,33 +50,49 @@
 use analysis::bootstrap::Bound;
 use analysis::data::{Curve, Dataset, Grouping};
 use analysis::multilevel::compare::{difference, tost};
+use analysis::multilevel::profile::threshold_interval;
 use analysis::multilevel::{Context, MultilevelSettings, estimate, group_model, t_quantile};
 use analysis::plan::replicate::{ReplicationSettings, replicate};
+use analysis::psychometric::{GUESS, Model};
 use analysis::report::Settings;
+use analysis::sigmoid::Sigmoid;
+use analysis::simulate::simulate_curve;
 use experiment::{Design, Observer};
 use rayon::prelude::*;
+use renderer::hash::{hash, unit_f64};
 use std::path::Path;
 
 const MARGIN: f64 = 0.2;
 
 /// The intervals compared, in the table's order.
-const INTERVALS: [&str; 5] = [
+const INTERVALS: [&str; 6] = [
     "Wald t",
     "Wald t, SE x sqrt(n/(n-1))",
     "robust (CR1) t",
     "subject bootstrap",
     "pooled bootstrap",
+    "profile t",
+];
+
+/// The conditions whose JND is checked: group label, true JND (spp).
+const CONDITIONS: [(&str, f64); 2] = [
+    ("plane/poisson/truncated_box", 40.0),
+    ("spheres/stratified/truncated_box", 100.0),
 ];
 
 /// One condition of one replication.
 #[derive(Default, Clone, Copy)]
 struct Cell {
-    /// Whether each of [`INTERVALS`] covers the truth (the subject bootstrap's only when run).
-    covers: [bool; 5],
+    /// Whether each of [`INTERVALS`] covers the truth (the subject bootstrap's and the pooled
+    /// bootstrap's only when run).
+    covers: [bool; 6],
     /// ln estimate - ln truth.
     error: f64,
-    /// The between-subject SD's estimate.
+    /// The between-subject SD's and the slope's estimates.
     sigma: f64,
+    slope: f64,
+    /// Sigma at its lower bound (0.001: no spread detected).
+    at_bound: bool,
 }
 
 /// What one replication found.
@@ -111,9 +138,31 @@ struct Run {
     informative: bool,
     /// Subject-bootstrap resamples per condition (0: none).
     subject_resamples: usize,
+    /// Data from the model's own process instead of the session machine.
+    model_source: bool,
+    /// Fit the TOST's pairs in a coverage run.
+    tost: bool,
+    /// Gauss-Hermite nodes per subject.
+    nodes: usize,
+    /// Trials per level of the model source.
+    repeats: u32,
+    /// The model source's offsets uniform (with the same SD) instead of normal.
+    uniform: bool,
 }
 
-fn one(design: &Design, obs: &Observer, r: u64, run: Run) -> Outcome {
+/// Whether column k of [`INTERVALS`] is measured in this run.
+fn measured(k: usize, run: Run) -> bool {
+    match k {
+        3 => run.subject_resamples > 0,
+        4 => !run.model_source,
+        _ => true,
+    }
+}
+
+fn one(design: &Design, obs: &Observer, spread: f64, r: u64, run: Run) -> Outcome {
+    if run.model_source {
+        return from_model(design, spread, r, run);
+    }
     let Run {
         subjects, coverage, ..
     } = run;
@@ -131,6 +180,7 @@ fn one(design: &Design, obs: &Observer, r: u64, run: Run) -> Outcome {
     let (rep, ds) = replicate(design, obs, subjects, r, &s).expect("a replication");
     let ml = MultilevelSettings {
         resamples: run.subject_resamples,
+        nodes: run.nodes,
         ..MultilevelSettings::default()
     };
     let fit = s.analysis.fit;
@@ -146,40 +196,22 @@ fn one(design: &Design, obs: &Observer, r: u64, run: Run) -> Outcome {
     };
     let mut out = Outcome::default();
     let cells = if coverage { 2 } else { 0 };
-    for (i, (label, truth)) in [
-        ("plane/poisson/truncated_box", 40f64),
-        ("spheres/stratified/truncated_box", 100.0),
-    ]
-    .into_iter()
-    .take(cells)
-    .enumerate()
-    {
+    for (i, &(label, truth)) in CONDITIONS.iter().take(cells).enumerate() {
         let g = ds.groups.iter().find(|g| g.key.label == label).unwrap();
-        let m = group_model(&ds, g, &cx).expect("identified");
         let (_, b) = rep.pooled.iter().find(|(k, _)| k.label == label).unwrap();
         let t = truth.ln();
-        let inside = |(lo, hi): (f64, f64)| lo <= t && t <= hi;
-        // Ends beyond the tested range count as unbounded (as the report's "above range"):
-        // the truths lie inside it, so the raw ln ends decide alike.
-        let n = m.subjects as f64;
-        let tq = t_quantile(0.975, n - 1.0);
-        let around =
-            |se: Option<f64>| se.map_or((1.0, 0.0), |s| (m.ln_jnd - tq * s, m.ln_jnd + tq * s));
-        let subject_boot = m
-            .bootstrap
-            .as_ref()
-            .is_some_and(|sb| inside(ln_interval(&sb.ci_lower, &sb.ci_upper)));
-        out.cells[i] = Cell {
-            covers: [
-                inside(around(m.ln_jnd_se)),
-                inside(around(m.ln_jnd_se.map(|s| s * (n / (n - 1.0)).sqrt()))),
-                inside(around(m.ln_jnd_robust_se)),
-                subject_boot,
-                inside(ln_interval(&b.ci_lower, &b.ci_upper)),
-            ],
-            error: m.ln_jnd - t,
-            sigma: m.sigma,
-        };
+        let pooled = ln_interval(&b.ci_lower, &b.ci_upper);
+        let pooled = pooled.0 <= t && t <= pooled.1;
+        let subject_boot = (run.subject_resamples > 0).then(|| {
+            let m = group_model(&ds, g, &cx).expect("identified");
+            let sb = m.bootstrap.expect("resamples > 0");
+            let (lo, hi) = ln_interval(&sb.ci_lower, &sb.ci_upper);
+            lo <= t && t <= hi
+        });
+        out.cells[i] = cell(&g.per_subject, &cx, t, subject_boot, pooled);
+    }
+    if coverage && !run.tost {
+        return out;
     }
     let tost_of = |a: &str, b: &str| {
         let curves: Vec<&[Curve]> = [a, b]
@@ -201,6 +233,87 @@ fn one(design: &Design, obs: &Observer, r: u64, run: Run) -> Outcome {
     out
 }
 
+/// One condition's cell from its subjects' curves: the model's intervals (Wald, its
+/// sqrt(n / (n - 1)) variant, CR1, profile) against the truth `t` (ln spp), with the bootstrap
+/// verdicts computed by the caller. Ends beyond the tested range count as unbounded (as the
+/// report's "above range"): the truths lie inside it, so the raw ln ends decide alike.
+fn cell(curves: &[Curve], cx: &Context, t: f64, subject_boot: Option<bool>, pooled: bool) -> Cell {
+    let (e, counts) = estimate(&[curves], false, cx, None).expect("identified");
+    let n = counts.subjects.len() as f64;
+    let tq = t_quantile(0.975, n - 1.0);
+    let est = e.params.thresholds[0];
+    let inside = |(lo, hi): (f64, f64)| lo <= t && t <= hi;
+    let around = |se: Option<f64>| se.map_or((1.0, 0.0), |s| (est - tq * s, est + tq * s));
+    let se = e.se(0);
+    Cell {
+        covers: [
+            inside(around(se)),
+            inside(around(se.map(|s| s * (n / (n - 1.0)).sqrt()))),
+            inside(around(e.robust_se(0))),
+            subject_boot.unwrap_or(false),
+            pooled,
+            inside(threshold_interval(&e, &counts, cx, 0, tq)),
+        ],
+        error: est - t,
+        sigma: e.params.sigma,
+        slope: e.params.slopes[0],
+        at_bound: e.layout.at_bound(&e.vector, &e.bounds)[e.layout.sigma_index()],
+    }
+}
+
+/// Replication `r` with data from the model's own process (`source=model`): subject s's
+/// offset sigma z, z standard normal (or uniform over +-sqrt(3)) from `hash(seed, [r, s])`, the
+/// same in both conditions.
+fn from_model(design: &Design, sigma: f64, r: u64, run: Run) -> Outcome {
+    const SEED: u64 = 0x0de1;
+    let top = design.file.levels.iter().copied().max().unwrap_or(0);
+    let levels: Vec<u32> = (design.file.levels.iter().copied())
+        .filter(|&l| l != top)
+        .collect();
+    let offsets: Vec<f64> = (0..run.subjects as u64)
+        .map(|s| {
+            let p = unit_f64(hash(SEED, &[r, s])).max(1e-12);
+            let z = if run.uniform {
+                12f64.sqrt() * (p - 0.5)
+            } else {
+                Sigmoid::Normal.inverse(p)
+            };
+            sigma * z
+        })
+        .collect();
+    let fit = Settings::default().fit;
+    let ml = MultilevelSettings {
+        resamples: 0,
+        nodes: run.nodes,
+        ..MultilevelSettings::default()
+    };
+    let cx = Context {
+        fit: &fit,
+        target: 0.75,
+        settings: &ml,
+        same_video_levels: &[],
+    };
+    let mut out = Outcome::default();
+    for (i, &(_, truth)) in CONDITIONS.iter().enumerate() {
+        let curves: Vec<Curve> = (offsets.iter().enumerate())
+            .map(|(s, u)| {
+                let m = Model {
+                    sigmoid: Sigmoid::Logistic,
+                    // With g = 1/2 the logistic's alpha is its 0.75 point.
+                    alpha: truth.ln() + u,
+                    beta: 1.5,
+                    lapse: 0.0,
+                    guess: GUESS,
+                };
+                let coords = [r, i as u64, s as u64];
+                simulate_curve(&m, &levels, run.repeats, SEED, &coords)
+            })
+            .collect();
+        out.cells[i] = cell(&curves, &cx, truth.ln(), None, false);
+    }
+    out
+}
+
 fn group<'a>(ds: &'a Dataset, label: &str) -> &'a analysis::data::Group {
     ds.groups_of(Grouping::PointSet)
         .find(|g| g.key.label == label)
@@ -208,7 +321,13 @@ fn group<'a>(ds: &'a Dataset, label: &str) -> &'a analysis::data::Group {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
+    let (options, args): (Vec<String>, Vec<String>) =
+        std::env::args().partition(|a| a.contains('='));
+    let option = |key: &str, default: &str| -> String {
+        (options.iter())
+            .find_map(|o| o.strip_prefix(&format!("{key}=")).map(str::to_string))
+            .unwrap_or_else(|| default.to_string())
+    };
     let reps: u64 = args.get(1).map_or(100, |a| a.parse().unwrap());
     let spreads: Vec<f64> = args
         .get(2)
@@ -230,21 +349,26 @@ fn main() {
         coverage,
         informative: args.get(7).is_none_or(|a| a != "all"),
         subject_resamples: args.get(8).map_or(0, |a| a.parse().unwrap()),
+        model_source: option("source", "session") == "model",
+        tost: option("tost", "yes") == "yes",
+        uniform: option("offsets", "normal") == "uniform",
+        nodes: option("nodes", "15").parse().expect("nodes=N"),
+        repeats: (option("repeats", &design.file.repeats.to_string()))
+            .parse()
+            .expect("repeats=N"),
     };
     if !coverage {
         return tost_only(&design, runs, &spreads, run);
     }
-    let columns: Vec<&str> = INTERVALS
-        .iter()
-        .enumerate()
-        .filter(|&(k, _)| k != 3 || run.subject_resamples > 0)
+    let columns: Vec<&str> = (INTERVALS.iter().enumerate())
+        .filter(|&(k, _)| measured(k, run))
         .map(|(_, name)| *name)
         .collect();
     println!(
-        "| spread (SD) | replications | condition | {} | mean ln JND error | ratio | mean sigma | TOST at margin (size) | TOST at 0 (power) | CPU s |",
+        "| spread (SD) | replications | condition | {} | mean ln JND error | ratio | mean sigma | sigma at bound | mean slope | TOST at margin (size) | TOST at 0 (power) | CPU s |",
         columns.join(" | ")
     );
-    println!("|{}", "---|".repeat(columns.len() + 9));
+    println!("|{}", "---|".repeat(columns.len() + 11));
     for spread in spreads {
         let obs = observer(spread);
         let t0 = cpu_seconds();
@@ -252,7 +376,7 @@ fn main() {
             .clone()
             .into_par_iter()
             .map(|r| {
-                let o = one(&design, &obs, r, run);
+                let o = one(&design, &obs, spread, r, run);
                 row(spread, r, &o);
                 o
             })
@@ -266,17 +390,25 @@ fn main() {
             .enumerate()
         {
             let rates: Vec<String> = (0..INTERVALS.len())
-                .filter(|&k| k != 3 || run.subject_resamples > 0)
+                .filter(|&k| measured(k, run))
                 .map(|k| {
                     let covered = outs.iter().filter(|o| o.cells[i].covers[k]).count();
                     format!("{:.3}", covered as f64 / n)
                 })
                 .collect();
             let bias = outs.iter().map(|o| o.cells[i].error).sum::<f64>() / n;
-            let sigma = outs.iter().map(|o| o.cells[i].sigma).sum::<f64>() / n;
+            let mean = |f: fn(&Cell) -> f64| outs.iter().map(|o| f(&o.cells[i])).sum::<f64>() / n;
+            let sigma = mean(|c| c.sigma);
+            let slope = mean(|c| c.slope);
+            let bound = mean(|c| f64::from(u8::from(c.at_bound)));
+            // The model source's spread is the SD itself, the session's a uniform width.
+            let sd = if run.model_source {
+                spread
+            } else {
+                spread / 12f64.sqrt()
+            };
             println!(
-                "| {spread} ({:.3}) | {reps} | {label} | {} | {bias:+.4} | {:.3} | {sigma:.3} | {size:.3} | {power:.3} | {cpu:.0} |",
-                spread / 12f64.sqrt(),
+                "| {spread} ({sd:.3}) | {reps} | {label} | {} | {bias:+.4} | {:.3} | {sigma:.3} | {bound:.3} | {slope:.3} | {size:.3} | {power:.3} | {cpu:.0} |",
                 rates.join(" | "),
                 bias.exp()
             );
@@ -286,7 +418,8 @@ fn main() {
 
 /// One replication as CSV lines on stderr, one per condition, as it finishes (a long run
 /// stopped early still leaves its finished replications): spread, replication, condition,
-/// each interval's 0/1 in [`INTERVALS`]' order, ln error, sigma, TOST at margin, at zero.
+/// each interval's 0/1 in [`INTERVALS`]' order, ln error, sigma, slope, sigma at its bound
+/// (0/1), TOST at margin, at zero.
 fn row(spread: f64, r: u64, o: &Outcome) {
     for (i, c) in o.cells.iter().enumerate() {
         let covers: Vec<&str> = c
@@ -295,10 +428,12 @@ fn row(spread: f64, r: u64, o: &Outcome) {
             .map(|&b| if b { "1" } else { "0" })
             .collect();
         eprintln!(
-            "row,{spread},{r},{i},{},{:.6},{:.6},{},{}",
+            "row,{spread},{r},{i},{},{:.6},{:.6},{:.6},{},{},{}",
             covers.join(","),
             c.error,
             c.sigma,
+            c.slope,
+            u8::from(c.at_bound),
             u8::from(o.at_margin),
             u8::from(o.at_zero)
         );
@@ -319,7 +454,7 @@ fn tost_only(design: &Design, runs: std::ops::Range<u64>, spreads: &[f64], run: 
         let outs: Vec<Outcome> = runs
             .clone()
             .into_par_iter()
-            .map(|r| one(design, &obs, r, run))
+            .map(|r| one(design, &obs, spread, r, run))
             .collect();
         let cpu = cpu_seconds() - t0;
         let n = outs.len() as f64;

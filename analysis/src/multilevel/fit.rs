@@ -131,24 +131,26 @@ pub fn estimate(
     }
 }
 
-/// Nelder-Mead over a vector of 3 to 6 coordinates (one or two groups, lapse fixed or free).
-fn minimise(f: &Objective, start: &[f64], edge: f64, tol: Tolerance) -> (Vec<f64>, f64) {
+/// Nelder-Mead over a vector of 2 to 6 coordinates (one or two groups, lapse fixed or free;
+/// 2 for a one-group model with its threshold held, [`super::profile`]).
+pub(super) fn minimise(f: &Objective, start: &[f64], edge: f64, tol: Tolerance) -> (Vec<f64>, f64) {
     fn run<const N: usize>(f: &Objective, s: &[f64], edge: f64, tol: Tolerance) -> (Vec<f64>, f64) {
         let start: [f64; N] = s.try_into().expect("length matched");
         let m = nelder_mead(&mut |x: &[f64; N]| f(x), start, edge, tol);
         (m.x.to_vec(), m.value)
     }
     match start.len() {
+        2 => run::<2>(f, start, edge, tol),
         3 => run::<3>(f, start, edge, tol),
         4 => run::<4>(f, start, edge, tol),
         5 => run::<5>(f, start, edge, tol),
         6 => run::<6>(f, start, edge, tol),
-        n => unreachable!("a multilevel model has 3 to 6 parameters, not {n}"),
+        n => unreachable!("a multilevel model has 3 to 6 parameters (2 to 5 held), not {n}"),
     }
 }
 
 /// The negative log-likelihood over the parameter vector.
-type Objective<'a> = dyn Fn(&[f64]) -> f64 + 'a;
+pub(super) type Objective<'a> = dyn Fn(&[f64]) -> f64 + 'a;
 
 /// Inverse of the numerical Hessian of `f` (the negative log-likelihood) over the coordinates
 /// not `fixed`; central differences with step 2e-3 (the parameters are in ln units).

@@ -7,9 +7,10 @@
 //! estimate of its own, and each subject's JND is shrunk towards the population's as far as
 //! the subject's own data are weak (with 4 trials per level, far). Fitted by maximum likelihood
 //! with adaptive Gauss-Hermite quadrature over each subject's offset (as lme4's `glmer` with
-//! `nAGQ` > 1, the guess rate and lapse built into the link). Two intervals for the population
-//! JND: Wald from the observed information (Student t with subjects - 1 df), and a subject
-//! bootstrap (resampling whole subjects and refitting), the simpler one.
+//! `nAGQ` > 1, the guess rate and lapse built into the link). Three intervals for the
+//! population JND: the profile-likelihood interval ([`profile`], the reported one), Wald from
+//! the observed information (both with Student t at subjects - 1 df), and a subject bootstrap
+//! (resampling whole subjects and refitting), the simpler one.
 //!
 //! [`compare`] compares groups (scenes, point sets) within one model: differences in ln JND
 //! with Wald and likelihood-ratio tests, and two one-sided tests of equivalence.
@@ -17,6 +18,7 @@
 pub mod compare;
 mod fit;
 pub mod model;
+pub mod profile;
 pub mod quadrature;
 mod subjects;
 
@@ -95,9 +97,14 @@ pub struct GroupModel {
     pub ln_jnd_robust_se: Option<f64>,
     /// The population JND as the data support it (never extrapolated).
     pub jnd: Threshold,
-    /// Wald interval, Student t with subjects - 1 df.
+    /// The reported interval: profile likelihood at the Student t quantile with subjects - 1
+    /// df ([`profile`]; it covers where the Wald interval falls short when subjects differ
+    /// widely, `docs/analysis.md`).
     pub ci_lower: Option<Bound>,
     pub ci_upper: Option<Bound>,
+    /// Wald interval, Student t with subjects - 1 df.
+    pub wald_lower: Option<Bound>,
+    pub wald_upper: Option<Bound>,
     pub slope: f64,
     /// Between-subject SD of the threshold in ln spp, with a Wald interval on ln sigma (none
     /// when sigma is at its lower bound 0.001: no spread detected).
@@ -243,6 +250,7 @@ pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> 
             upper: (t + i.mean + zq * i.sd).exp(),
         })
         .collect();
+    let (p_lo, p_hi) = profile::threshold_interval(&e, &counts, cx, 0, tq);
     let bootstrap = (cx.settings.resamples > 0)
         .then(|| subjects::bootstrap_group(&curves, cx, &e.vector, g.key.id()))
         .flatten()
@@ -254,8 +262,10 @@ pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> 
         ln_jnd_se: se,
         ln_jnd_robust_se: e.robust_se(0),
         jnd: threshold_of(t, lo, hi, levels),
-        ci_lower: se.map(|s| bound(t - tq * s)),
-        ci_upper: se.map(|s| bound(t + tq * s)),
+        ci_lower: Some(bound(p_lo)),
+        ci_upper: Some(bound(p_hi)),
+        wald_lower: se.map(|s| bound(t - tq * s)),
+        wald_upper: se.map(|s| bound(t + tq * s)),
         slope: e.params.slopes[0],
         sigma: e.params.sigma,
         sigma_ci: e.se(si).map(|s| {
@@ -307,7 +317,7 @@ mod tests {
     };
     use renderer::hash::{hash, unit_f64};
 
-    fn cx(settings: &MultilevelSettings) -> Context<'_> {
+    pub(super) fn cx(settings: &MultilevelSettings) -> Context<'_> {
         static FIT: FitSettings = FitSettings {
             sigmoid: Sigmoid::Logistic,
             lapse: LapseMode::Fixed,
@@ -323,7 +333,13 @@ mod tests {
 
     /// Subjects with thresholds normal around `jnd` spp (SD `sigma` in ln spp), logistic slope
     /// 1.5, `trials` per thesis level; returns the curves and the subjects' true ln thresholds.
-    fn subjects(n: usize, jnd: f64, sigma: f64, trials: u32, seed: u64) -> (Vec<Curve>, Vec<f64>) {
+    pub(super) fn subjects(
+        n: usize,
+        jnd: f64,
+        sigma: f64,
+        trials: u32,
+        seed: u64,
+    ) -> (Vec<Curve>, Vec<f64>) {
         (0..n as u64)
             .map(|s| {
                 let z = Sigmoid::Normal.inverse(unit_f64(hash(seed, &[0x0ff5, s])).max(1e-12));

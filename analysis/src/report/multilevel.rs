@@ -30,7 +30,9 @@ impl Report {
              ln spp around the population's (between-subject SD sigma); guess rate and lapse as \
              above. Maximum likelihood with adaptive Gauss-Hermite quadrature ({} nodes) over \
              each subject's offset. The population JND is the typical subject's (offset 0). \
-             Wald interval: Student t with subjects - 1 df on ln JND; subject bootstrap: {} \
+             Profile interval (the reported one): the ln JNDs whose profile deviance is at most \
+             the square of the Student t quantile with subjects - 1 df; Wald interval: the same \
+             t on ln JND; subject bootstrap: {} \
              resamples of whole subjects (seed {}), nearest-rank percentiles. sigma's interval \
              is Wald on ln sigma (none when sigma is at its lower bound 0.001: no spread \
              detected).\n",
@@ -47,12 +49,13 @@ impl Report {
         }
         let _ = writeln!(
             md,
-            "| grouping | group | subjects | JND | {conf:.0}% CI (Wald) | {conf:.0}% CI (subject \
-             bootstrap) | sigma (ln spp) | {conf:.0}% CI | slope | lapse |"
+            "| grouping | group | subjects | JND | {conf:.0}% CI (profile) | {conf:.0}% CI (Wald) | \
+             {conf:.0}% CI (subject bootstrap) | sigma (ln spp) | {conf:.0}% CI | slope | lapse |"
         );
-        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|");
         for g in &ml.groups {
-            let wald = interval_text(&g.ci_lower, &g.ci_upper, ", ").map_or("none".into(), br);
+            let profile = interval_text(&g.ci_lower, &g.ci_upper, ", ").map_or("none".into(), br);
+            let wald = interval_text(&g.wald_lower, &g.wald_upper, ", ").map_or("none".into(), br);
             let boot = g
                 .bootstrap
                 .as_ref()
@@ -63,7 +66,7 @@ impl Report {
                 .map_or("none".into(), |(a, b)| format!("[{a:.3}, {b:.3}]"));
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {wald} | {boot} | {:.3} | {sigma_ci} | {:.3} | {:.3} |",
+                "| {} | {} | {} | {} | {profile} | {wald} | {boot} | {:.3} | {sigma_ci} | {:.3} | {:.3} |",
                 g.key.grouping.name(),
                 g.key.label,
                 g.subjects,
