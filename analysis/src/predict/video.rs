@@ -101,7 +101,7 @@ impl Filters {
         let csf: [Vec<f64>; 2] = [SUSTAINED, TRANSIENT].map(|m| {
             rho.iter()
                 .zip(&gain)
-                .map(|(&r, &g)| g * spatial(&m, r, l, a))
+                .map(|(&r, &g)| g * spatial(&m, shape.csf_frequency(r), l, a))
                 .collect()
         });
         let bands = (0..centres.len())
