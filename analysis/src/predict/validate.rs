@@ -4,8 +4,9 @@
 //!
 //! Free parameters: the sensitivity constant k (d' = k Q); the pooling ([`super::pooling`]):
 //! beta over space and time and the spatial aperture's size (beta_c over bands and channels is
-//! held at the first pass's fit, [`grid`]); the CSF's shape ([`super::shape`]): its narrowing
-//! c, the narrowing's centre and the oblique loss w. Everything else is fixed as published
+//! held at the first pass's fit, [`grid`]); the CSF's shape ([`super::shape`]): the oblique
+//! loss w, the high-frequency roll-off f_h and the frequency scale s (the narrowing c and the
+//! roll-off's power held, [`shapes`]). Everything else is fixed as published
 //! (stelaCSF, the bands, the channels) or as chosen in docs/predict.md. For given parameters
 //! the predicted log sensitivity is log10 S_i = log10 k + log10(Q1_i / d'_84) (Q1 the
 //! response per unit peak contrast, d'_84 the 2IFC 84% point), so the least-squares log10 k is
