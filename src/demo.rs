@@ -97,6 +97,7 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         out: Some(out.join("predict")),
         sensitivity: analysis::predict::decision::DEFAULT_K,
         distance_m: None,
+        decision: analysis::predict::command::Decision::Difference,
         calibrate: Vec::new(),
         no_progress: args.no_progress,
     })?;

@@ -163,6 +163,11 @@ pub struct PredictArgs {
     /// (e.g. 0.7, the distance of the manifest's FLIP measurement).
     #[arg(long)]
     pub distance_m: Option<f64>,
+    /// How the observer compares test and reference: `difference` (T - R at each place, as
+    /// fitted to ModelFest) or `side-by-side` (each video's local contrast energy compared, as
+    /// the suite's trials show the pair; opt-in, not validated: docs/predict.md).
+    #[arg(long, value_enum, default_value_t = Decision::Difference)]
+    pub decision: Decision,
     /// Fit k to these sessions (folders or logs) by maximum likelihood, report the
     /// leave-one-condition-out error, and write the prediction with the fitted k.
     #[arg(long, num_args = 1..)]
@@ -170,6 +175,22 @@ pub struct PredictArgs {
     /// Hide the progress bar.
     #[arg(long)]
     pub no_progress: bool,
+}
+
+/// `--decision`: the command line's names of [`super::video::Comparison`].
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Decision {
+    Difference,
+    SideBySide,
+}
+
+impl From<Decision> for super::video::Comparison {
+    fn from(d: Decision) -> Self {
+        match d {
+            Decision::Difference => Self::Difference,
+            Decision::SideBySide => Self::SideBySide,
+        }
+    }
 }
 
 /// What the command produced.
@@ -190,6 +211,7 @@ pub fn run(args: &PredictArgs) -> Result<Outcome> {
     let settings = PredictSettings {
         display: display_spec(design.as_ref(), args.distance_m),
         k: args.sensitivity,
+        comparison: args.decision.into(),
     };
     let bar = Terminal::new(Look::Steps, !args.no_progress);
     let mut prediction = predict(&args.stimuli, design.as_ref(), &settings, &bar)?;

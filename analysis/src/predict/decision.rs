@@ -37,7 +37,7 @@ pub use experiment::predicted::{phi, two_pair_p_correct};
 /// Default sensitivity constant k (d' per unit of Q): fitted with [`super::pooling::FITTED`] to
 /// the 43 ModelFest thresholds by least squares on log thresholds (2IFC, 84% correct;
 /// `blurlab predict validate modelfest`).
-pub const DEFAULT_K: f64 = 3.9274;
+pub const DEFAULT_K: f64 = 4.1813;
 
 /// d' at which the two-pair task's proportion correct is `p` (0.5 < p < 1); solves
 /// Phi(d/2)^2 + Phi(-d/2)^2 = p: with a = Phi(d/2), a^2 + (1 - a)^2 = p, so

@@ -278,6 +278,9 @@ mod tests {
                 narrowing: 0.05,
                 centre_cpd: 8.0,
                 oblique: 0.3,
+                rolloff_cpd: 20.0,
+                rolloff_power: 3.0,
+                scale: 1.2,
             },
         ];
         let fast = response(&s, &grid, &shapes).unwrap();

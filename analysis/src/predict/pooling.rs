@@ -47,7 +47,7 @@ pub struct Pooling {
 /// modelfest`).
 pub const FITTED: Pooling = Pooling {
     channels: 2.0,
-    space: 2.6,
+    space: 2.4,
     aperture_deg: 0.5,
 };
 

@@ -10,7 +10,7 @@
 use super::decision::two_pair_p_correct;
 use super::display::Display;
 use super::pooling::{FITTED, Grid, Placement, video_q};
-use super::video::{Filters, Viewing, frame_differences};
+use super::video::{Comparison, Filters, Viewing, frame_differences};
 use crate::jnd::Threshold;
 use anyhow::{Context, Result, bail};
 use experiment::Design;
@@ -32,6 +32,8 @@ pub struct PredictSettings {
     pub display: DisplaySpec,
     /// Sensitivity constant: d' = k Q.
     pub k: f64,
+    /// How test and reference are compared (the difference, as fitted, by default).
+    pub comparison: Comparison,
 }
 
 /// One test stimulus's prediction.
@@ -186,7 +188,7 @@ pub fn predict(
                 &video(&p.reference)?,
                 &display,
                 means[p.reference.as_str()],
-                s.k,
+                s,
             )
             .with_context(|| format!("stimulus {} against {}", p.test, p.reference));
             progress.advance(1);
@@ -213,8 +215,9 @@ fn predict_pair(
     reference: &VideoSource,
     display: &Display,
     mean: f64,
-    k: f64,
+    s: &PredictSettings,
 ) -> Result<StimulusPrediction> {
+    let k = s.k;
     let t0 = Instant::now();
     if (test.width, test.height, test.frames())
         != (reference.width, reference.height, reference.frames())
@@ -238,7 +241,8 @@ fn predict_pair(
         // A black reference has no adaptation level; the floor of the local adaptation applies.
         mean_luminance: mean.max(super::video::ADAPTATION_FLOOR as f64),
     };
-    let mut filters = Filters::new(viewing, FITTED.channels, super::shape::FITTED)?;
+    let mut filters = Filters::new(viewing, FITTED.channels, super::shape::FITTED)?
+        .comparing(s.comparison, FITTED.space);
     let q_frames: Vec<f64> = frame_differences(
         &mut filters,
         &Grid::one(FITTED),

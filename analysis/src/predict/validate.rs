@@ -4,8 +4,9 @@
 //!
 //! Free parameters: the sensitivity constant k (d' = k Q); the pooling ([`super::pooling`]):
 //! beta over space and time and the spatial aperture's size (beta_c over bands and channels is
-//! held at the first pass's fit, [`grid`]); the CSF's shape ([`super::shape`]): its narrowing
-//! c, the narrowing's centre and the oblique loss w. Everything else is fixed as published
+//! held at the first pass's fit, [`grid`]); the CSF's shape ([`super::shape`]): the oblique
+//! loss w, the high-frequency roll-off f_h and the frequency scale s (the narrowing c and the
+//! roll-off's power held, [`shapes`]). Everything else is fixed as published
 //! (stelaCSF, the bands, the channels) or as chosen in docs/predict.md. For given parameters
 //! the predicted log sensitivity is log10 S_i = log10 k + log10(Q1_i / d'_84) (Q1 the
 //! response per unit peak contrast, d'_84 the 2IFC 84% point), so the least-squares log10 k is
@@ -44,31 +45,43 @@ pub fn params(grid: &Grid, shapes: &[Shape]) -> Vec<Params> {
 }
 
 /// The poolings the fit searches: beta_c = 2 (fitted from {1, 2, 3, 4} by the first pass and
-/// kept: each value costs a pass of the pipeline), beta in 1.8, 2.2, 2.6, 3.0 and the
-/// aperture's sd none, 1, 0.5, 0.35 or 0.25 deg: both reach past the fit (beta 2.6, sd 0.5),
-/// which the third pass's grid had at its smallest aperture.
+/// kept: each value costs a pass of the pipeline), beta in 2.2-2.8 by 0.2 and the aperture's
+/// sd none, 0.5 or 0.35 deg: both reach past the fit (beta 2.4, sd 0.5). The fourth pass's
+/// wider grid (beta 1.8-3.0, sd down to 0.25 deg and 1 deg) put its optimum inside this one;
+/// the 0.2 steps in beta keep the leave-one-out fits from jumping between far points.
 pub fn grid() -> Grid {
     Grid {
         channels: vec![2.0],
-        space: vec![1.8, 2.2, 2.6, 3.0],
-        apertures: vec![f64::INFINITY, 1.0, 0.5, 0.35, 0.25],
+        space: vec![2.2, 2.4, 2.6, 2.8],
+        apertures: vec![f64::INFINITY, 0.5, 0.35],
     }
 }
 
-/// The CSF shapes the fit searches: the oblique loss w in 0.15, 0.3, 0.45, 0.6, on both sides
-/// of the third pass's 0.3 (then the grid's edge). The narrowing ([`Shape::narrowing`]) is held
-/// at 0: on the fourth pass's grid (c 0 or 0.015 around 4 or 8 cpd) it was 0 in the fit on all
-/// 43 stimuli and 0.015 around 8 cpd only when the smallest Gaussian blob (#26) was left out,
+/// The CSF shapes the fit searches (fifth pass): the oblique loss w in 0.15, 0.3, 0.45; the
+/// high-frequency roll-off f_h in 30, 34, 38 cpd at power 2; the frequency scale s in 0.8,
+/// 0.85, 0.9. Each around the fit (w 0.3, f_h 34, s 0.85), which the fifth pass's exploration
+/// grids (`analysis/examples/modelfest_shapes.rs`; f_h 24-48 and none, power 1.5-8, s
+/// 0.7-1.15) put inside. Held: the power at 2 (1.5 and 2 fit alike, 0.948 and 0.946 dB; 3 and
+/// above worse) and the narrowing at 0: on the fourth pass's grid it was 0 in the fit on all 43
+/// stimuli and 0.015 around 8 cpd only when the smallest Gaussian blob (#26) was left out,
 /// which it then missed by 6.4 dB: identified by that one stimulus alone, it bought nothing in
-/// sample (1.205 dB either way) and cost leave-one-out 1.34 -> 1.66 dB (docs/benchmarks/modelfest.md).
+/// sample (docs/benchmarks/modelfest.md).
 pub fn shapes() -> Vec<Shape> {
-    (1..=4)
-        .map(|w| Shape {
-            narrowing: 0.0,
-            centre_cpd: 4.0,
-            oblique: w as f64 * 0.15,
-        })
-        .collect()
+    let mut out = Vec::new();
+    for w in [0.15, 0.3, 0.45] {
+        for rolloff_cpd in [30.0, 34.0, 38.0] {
+            for scale in [0.8, 0.85, 0.9] {
+                out.push(Shape {
+                    oblique: w,
+                    rolloff_cpd,
+                    rolloff_power: 2.0,
+                    scale,
+                    ..super::shape::NONE
+                });
+            }
+        }
+    }
+    out
 }
 
 /// The model's response per unit contrast of every stimulus at every point of a grid.
@@ -265,6 +278,15 @@ pub fn families(v: &Validation) -> Vec<(String, usize, f64, f64)> {
         .collect()
 }
 
+/// A size to two decimals, or "none (infinite)".
+fn finite_or_none(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.2}")
+    } else {
+        "none (infinite)".into()
+    }
+}
+
 /// The report as Markdown; its last line is `RMS error: X dB over N stimuli`.
 pub fn markdown(v: &Validation) -> String {
     let mut s = String::new();
@@ -275,19 +297,19 @@ pub fn markdown(v: &Validation) -> String {
         "# ModelFest validation\n\nFitted by least squares on log10 thresholds: k = {:.4} \
          (log10 k = {:.4}); pooling exponents beta_c = {:.0} (bands and channels), beta = {:.1} \
          (space and time); aperture sd {} deg; CSF narrowing c = {:.3} log10 per octave^2 \
-         around {:.2} cpd, oblique loss w = {:.2}. Decision: 2IFC, 84% correct at d' = {:.4}.\n",
+         around {:.2} cpd, oblique loss w = {:.2}, high-frequency roll-off f_h = {} cpd \
+         (power {:.1}), frequency scale s = {:.3}. Decision: 2IFC, 84% correct at d' = {:.4}.\n",
         f.k(),
         f.log10_k,
         p.channels,
         p.space,
-        if p.aperture_deg.is_finite() {
-            format!("{:.2}", p.aperture_deg)
-        } else {
-            "none (infinite)".into()
-        },
+        finite_or_none(p.aperture_deg),
         sh.narrowing,
         sh.centre_cpd,
         sh.oblique,
+        finite_or_none(sh.rolloff_cpd),
+        sh.rolloff_power,
+        sh.scale,
         d_prime_84()
     );
     s.push_str(
@@ -342,6 +364,7 @@ mod tests {
                 narrowing,
                 centre_cpd: 4.0,
                 oblique,
+                ..super::super::shape::NONE
             })
             .to_vec();
         (grid, shapes)
@@ -404,10 +427,16 @@ mod tests {
     #[test]
     fn the_grids_are_in_the_responses_order() {
         let ps = params(&grid(), &shapes());
-        assert_eq!(ps.len(), 4 * 5 * 4);
-        assert_eq!(ps[1].pooling.aperture_deg, 1.0);
-        assert_eq!(ps[5].pooling.space, 2.2);
-        assert_eq!(ps[21].shape, shapes()[1]);
+        assert_eq!(ps.len(), 4 * 3 * 27);
+        assert_eq!(ps[1].pooling.aperture_deg, 0.5);
+        assert_eq!(ps[3].pooling.space, 2.4);
+        assert_eq!(ps[13].shape, shapes()[1]);
+        // The committed model is a point of the grid, not on its edge.
+        let committed = Params {
+            pooling: super::super::pooling::FITTED,
+            shape: super::super::shape::FITTED,
+        };
+        assert!(ps.contains(&committed));
     }
 
     #[test]

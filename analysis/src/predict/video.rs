@@ -51,6 +51,21 @@ pub struct Viewing {
     pub mean_luminance: f64,
 }
 
+/// How the observer compares a test video with its reference.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Comparison {
+    /// The difference T - R at each place: a flicker comparison, or ModelFest's 2IFC against a
+    /// blank field (the default; what the model was fitted with).
+    #[default]
+    Difference,
+    /// Side by side, as the suite's trials show the pair: each video's local contrast energy
+    /// (its band norm to the space exponent beta, blurred by a Gaussian of
+    /// [`ADAPTATION_SIGMA_DEG`]), and the cue |E_T - E_R| in place of D^beta
+    /// (docs/predict.md, "A side-by-side decision stage"). Against a blank reference it is the
+    /// difference's D^beta blurred, which keeps its sum over the frame.
+    SideBySide,
+}
+
 /// Everything that depends only on the viewing: transforms, weights, kernels.
 pub struct Filters {
     viewing: Viewing,
@@ -61,6 +76,8 @@ pub struct Filters {
     /// beta_c, the Minkowski exponent over bands and channels ([`super::pooling`]).
     channel_exponent: f64,
     kernels: [Kernel; 2],
+    /// With [`Comparison::SideBySide`], the space exponent beta of the energies compared.
+    side_by_side: Option<f64>,
 }
 
 impl Filters {
@@ -101,7 +118,7 @@ impl Filters {
         let csf: [Vec<f64>; 2] = [SUSTAINED, TRANSIENT].map(|m| {
             rho.iter()
                 .zip(&gain)
-                .map(|(&r, &g)| g * spatial(&m, r, l, a))
+                .map(|(&r, &g)| g * spatial(&m, shape.csf_frequency(r), l, a))
                 .collect()
         });
         let bands = (0..centres.len())
@@ -127,17 +144,36 @@ impl Filters {
                 kernel(sustained_response, v.frames, v.fps),
                 kernel(transient_response, v.frames, v.fps),
             ],
+            side_by_side: None,
         })
+    }
+
+    /// These filters comparing as `comparison` says, with space exponent `space` (beta).
+    pub fn comparing(mut self, comparison: Comparison, space: f64) -> Self {
+        self.side_by_side = (comparison == Comparison::SideBySide).then_some(space);
+        self
+    }
+
+    /// Two real images blurred by the Gaussian of [`ADAPTATION_SIGMA_DEG`] (sum-preserving,
+    /// periodic), packed as re and im: one transform pair for both.
+    fn blur_pair(&mut self, a: &[f32], b: &[f32]) -> Vec<Complex32> {
+        let mut z: Vec<Complex32> = a
+            .iter()
+            .zip(b)
+            .map(|(&x, &y)| Complex32::new(x, y))
+            .collect();
+        self.fft.forward(&mut z);
+        for (z, g) in z.iter_mut().zip(&self.adaptation) {
+            *z *= *g;
+        }
+        self.fft.inverse(&mut z);
+        z
     }
 
     /// The local adaptation luminance of a reference frame: blurred, floored.
     pub fn adaptation(&mut self, reference: &[f32]) -> Vec<f32> {
-        let mut la: Vec<Complex32> = reference.iter().map(|&r| Complex32::new(r, 0.0)).collect();
-        self.fft.forward(&mut la);
-        for (z, g) in la.iter_mut().zip(&self.adaptation) {
-            *z *= *g;
-        }
-        self.fft.inverse(&mut la);
+        let zero = vec![0.0; reference.len()];
+        let la = self.blur_pair(reference, &zero);
         la.iter().map(|a| a.re.max(ADAPTATION_FLOOR)).collect()
     }
 
@@ -267,6 +303,8 @@ pub fn frame_sums(
     let mut c_band = vec![Complex32::default(); pixels];
     let mut sums = ChannelSums::new(&[filters.channel_exponent], pixels);
     let (mut sustained, mut transient) = (vec![0f32; pixels], vec![0f32; pixels]);
+    // Side by side: each video's own sums, the test's contrast e + c and the reference's c.
+    let mut own = [0, 1].map(|_| ChannelSums::new(&[filters.channel_exponent], pixels));
     for t in 0..f {
         let needed: Vec<usize> = offsets
             .iter()
@@ -288,6 +326,7 @@ pub fn frame_sums(
             }
         }
         sums.clear();
+        own.iter_mut().for_each(ChannelSums::clear);
         // The difference's two channels packed as e_S + i e_T, the reference's as c_S + i c_T.
         e_pack.iter_mut().for_each(|z| *z = Complex32::default());
         c_pack.iter_mut().for_each(|z| *z = Complex32::default());
@@ -319,11 +358,53 @@ pub fn frame_sums(
                 *s = e.re / threshold_elevation(c.re);
                 *t = e.im / threshold_elevation(c.im);
             }
-            sums.add(&sustained, &transient);
+            if filters.side_by_side.is_some() {
+                add_videos(&mut own, &e_band, &c_band);
+            } else {
+                sums.add(&sustained, &transient);
+            }
+        }
+        if let Some(space) = filters.side_by_side {
+            side_by_side(filters, &own, space, &mut sums);
         }
         each(t as usize, &sums);
     }
     Ok(())
+}
+
+/// Add one band of each video, test (e + c) and reference (c), each masked by the reference.
+fn add_videos(own: &mut [ChannelSums; 2], e_band: &[Complex32], c_band: &[Complex32]) {
+    let (te, tr): (Vec<[f32; 2]>, Vec<[f32; 2]>) = e_band
+        .iter()
+        .zip(c_band)
+        .map(|(e, c)| {
+            let (ms, mt) = (threshold_elevation(c.re), threshold_elevation(c.im));
+            (
+                [(e.re + c.re) / ms, (e.im + c.im) / mt],
+                [c.re / ms, c.im / mt],
+            )
+        })
+        .unzip();
+    for (sums, v) in own.iter_mut().zip([te, tr]) {
+        let (s, t): (Vec<f32>, Vec<f32>) = v.iter().map(|&[s, t]| (s, t)).unzip();
+        sums.add(&s, &t);
+    }
+}
+
+/// The side-by-side cue into `sums`: E_V = G * N_V^beta for both videos, and sums = |E_T -
+/// E_R|^(beta_c / beta), so that the pooling's (sums)^(beta / beta_c) is |E_T - E_R|.
+fn side_by_side(filters: &mut Filters, own: &[ChannelSums; 2], space: f64, sums: &mut ChannelSums) {
+    let r = (space / filters.channel_exponent) as f32;
+    let [nt, nr] = [0, 1].map(|k| {
+        own[k].sums[0]
+            .iter()
+            .map(|&v| v.powf(r))
+            .collect::<Vec<f32>>()
+    });
+    let e = filters.blur_pair(&nt, &nr);
+    for (acc, z) in sums.sums[0].iter_mut().zip(&e) {
+        *acc = (z.re - z.im).abs().powf(1.0 / r);
+    }
 }
 
 #[cfg(test)]
@@ -332,6 +413,7 @@ mod tests {
     use super::super::pooling::{FITTED, Pooling};
     use super::super::shape::{self, NONE};
     use super::*;
+    use renderer::hash::{hash, unit_f64};
     use std::f64::consts::PI;
 
     fn viewing(frames: usize) -> Viewing {
@@ -447,6 +529,75 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Q of a static test against a static reference (64 x 64 px at 32 ppd, 2 frames), each
+    /// given as contrast per pixel on 100 cd/m^2, compared as `comparison` says.
+    fn static_q(test: &[f32], reference: &[f32], comparison: Comparison, e: Pooling) -> f64 {
+        let v = viewing(2);
+        let mut filters = Filters::new(v, e.channels, NONE)
+            .unwrap()
+            .comparing(comparison, e.space);
+        let lum = |c: &[f32]| c.iter().map(|&c| 100.0 * (1.0 + c)).collect::<Vec<f32>>();
+        let q = frame_differences(&mut filters, &Grid::one(e), Placement::Centre, |_| {
+            Ok((lum(test), lum(reference)))
+        })
+        .unwrap();
+        super::super::pooling::video_q(&q.iter().map(|f| f[0]).collect::<Vec<_>>(), e.space)
+    }
+
+    /// Deterministic white noise, uniform in [-a, a], one field per `seed`.
+    fn noise(seed: u64, a: f32) -> Vec<f32> {
+        (0..64 * 64u64)
+            .map(|i| a * (2.0 * unit_f64(hash(seed, &[i])) as f32 - 1.0))
+            .collect()
+    }
+
+    #[test]
+    fn side_by_side_against_a_blank_field_is_the_difference() {
+        // ModelFest's case: the reference is uniform, so the reference's energy is 0 and the
+        // test's, blurred by a sum-preserving Gaussian, sums to the difference's D^beta over
+        // the frame: without an aperture the two comparisons agree (float rounding aside).
+        let gabor: Vec<f32> = (0..64 * 64)
+            .map(|i| {
+                let (x, y) = ((i % 64) as f32 - 32.0, (i / 64) as f32 - 32.0);
+                0.01 * (-(x * x + y * y) / 128.0).exp() * (0.5 * x).cos()
+            })
+            .collect();
+        let blank = vec![0.0; 64 * 64];
+        for space in [2.0, 2.4, 3.0] {
+            let e = Pooling {
+                channels: 2.0,
+                space,
+                aperture_deg: f64::INFINITY,
+            };
+            let d = static_q(&gabor, &blank, Comparison::Difference, e);
+            let s = static_q(&gabor, &blank, Comparison::SideBySide, e);
+            assert!(
+                d > 0.0 && (s / d - 1.0).abs() < 1e-3,
+                "beta {space}: {s} vs {d}"
+            );
+        }
+    }
+
+    #[test]
+    fn side_by_side_sees_the_noise_level_not_its_values() {
+        // Two independent noise fields of the same level look alike side by side (their
+        // local energies differ only by sampling), while their difference is as large as the
+        // noise; twice the level (2^2.4 = 5.3 times the energy) is seen either
+        // way. The same field against itself is nothing.
+        let e = FITTED;
+        let (r, t1, t2) = (noise(1, 0.05), noise(2, 0.05), noise(2, 0.1));
+        let same = static_q(&t1, &r, Comparison::SideBySide, e);
+        let double = static_q(&t2, &r, Comparison::SideBySide, e);
+        let same_diff = static_q(&t1, &r, Comparison::Difference, e);
+        assert!(same < 0.5 * double, "{same} vs {double}");
+        // The difference carries sqrt 2 times the noise; the energies only their sampling
+        // fluctuation, large on this 2-deg field whose 1-2 cpd bands hold a few cycles (1.76
+        // times less than the difference when written).
+        assert!(same_diff > 1.2 * same, "{same_diff} vs {same}");
+        let itself = static_q(&r, &r, Comparison::SideBySide, e);
+        assert!(itself < 1e-3 * double, "{itself}");
     }
 
     #[test]
