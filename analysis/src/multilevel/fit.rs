@@ -111,6 +111,7 @@ pub fn estimate(
         let p = layout.params(w, &bounds);
         lik.subjects(&p).iter().map(|i| i.ln_value).collect()
     };
+    let subjects = lik.subjects(&params);
     Estimate {
         covariance: if with_covariance {
             covariance(&f, &v, &fixed)
@@ -118,11 +119,11 @@ pub fn estimate(
             None
         },
         scores: if with_covariance {
-            scores(&per_subject, &v, &fixed)
+            scores(&per_subject, subjects.len(), &v, &fixed)
         } else {
             Vec::new()
         },
-        subjects: lik.subjects(&params),
+        subjects,
         layout,
         bounds,
         vector: v,
@@ -188,11 +189,15 @@ fn covariance(f: &Objective, v: &[f64], fixed: &[bool]) -> Option<Vec<Vec<f64>>>
     Some(cov)
 }
 
-/// Each subject's gradient of its ln marginal likelihood at `v` by central differences (step
-/// 2e-3, as the Hessian), 0 at the `fixed` coordinates.
-fn scores(per_subject: &dyn Fn(&[f64]) -> Vec<f64>, v: &[f64], fixed: &[bool]) -> Vec<Vec<f64>> {
+/// Each of the `n` subjects' gradient of its ln marginal likelihood at `v` by central
+/// differences (step 2e-3, as the Hessian), 0 at the `fixed` coordinates.
+fn scores(
+    per_subject: &dyn Fn(&[f64]) -> Vec<f64>,
+    n: usize,
+    v: &[f64],
+    fixed: &[bool],
+) -> Vec<Vec<f64>> {
     let h = 2e-3;
-    let n = per_subject(v).len();
     let mut g = vec![vec![0.0; v.len()]; n];
     for i in (0..v.len()).filter(|&i| !fixed[i]) {
         let mut w = v.to_vec();
