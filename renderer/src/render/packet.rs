@@ -1,9 +1,10 @@
 //! Tracing a row [`LANES`] pixels at a time, for worlds with a packet form ([`SmallWorld`]):
 //! lane `k` traces the samples of pixel `k` of the group and keeps its sum, so the pixels'
 //! sums add in lanes with no serial chain through memory. The camera rays are made straight
-//! in the lanes of a [`RayPacket`] (the samples too where they are plain arithmetic,
-//! [`super::sample_lanes`], else each lane's sample lookup and shutter time are scalar; the
-//! direction through the film point, and its normalisation, are done for all lanes at once)
+//! in the lanes of a [`RayPacket`] (the samples too where the pixels shift the frame's points,
+//! [`super::sample_lanes`], else each lane's scrambled sample and shutter time are scalar; a
+//! moving camera's frame, the direction through the film point and its normalisation are done
+//! for all lanes at once)
 //! and shaded by [`Tracer::radiance_packet`], which answers in lanes too. No ray or radiance
 //! is ever laid out one at a time.
 //!
@@ -15,7 +16,7 @@
 
 use super::CameraRays;
 use super::frame_lanes::frames_at;
-use super::sample_lanes::{FilmLanes, PlainSamples};
+use super::sample_lanes::{FilmLanes, ShiftedSamples};
 use crate::accel::packet::{LANES, Lane, RayPacket, SmallWorld, dot, lane_mask};
 use crate::sampling::{FrameSampler, PixelSampler};
 use crate::shading::Tracer;
@@ -37,20 +38,20 @@ pub(super) fn packet_span(
     let spp = sampler.spp();
     let mut non_finite = 0;
     let mut lanes = CameraLanes::new(camera);
-    // A still camera's rays need no per-lane frame: plain samples stay in lanes throughout.
-    let plain = PlainSamples::new(sampler, camera.shutter).filter(|_| lanes.still);
+    // Shifted samples stay in lanes throughout; scrambled ones are looked up lane by lane.
+    let shifted = ShiftedSamples::new(sampler, camera.shutter);
     for (x, group) in (x0..).step_by(LANES).zip(span.chunks_mut(LANES)) {
         let pixels: [PixelSampler; LANES] =
             std::array::from_fn(|k| sampler.pixel(x + k.min(group.len() - 1) as u32, y));
-        let shift = PlainSamples::shifts(&pixels);
+        let shift = ShiftedSamples::shifts(&pixels);
         let columns = Lane::new(std::array::from_fn(|k| (x + k as u32) as f32 + 0.5));
         let mut sum = [Lane::ZERO; 3];
         for i in 0..spp {
             // Lanes outside `live` keep stale values: their results are never read.
-            let (packet, live) = match &plain {
-                Some(plain) => {
-                    let film = plain.sample(&shift, columns, y as f32 + 0.5, i);
-                    (lanes.packet(&film), (1 << group.len()) - 1)
+            let (packet, live) = match &shifted {
+                Some(shifted) => {
+                    let film = shifted.sample(&shift, columns, y as f32 + 0.5, i);
+                    lanes.at(&film, (1 << group.len()) - 1)
                 }
                 None => lanes.set_all(&pixels[..group.len()], x, y, i),
             };
@@ -121,13 +122,19 @@ impl<'a> CameraLanes<'a> {
             fy: Lane::new(self.fy),
             time: Lane::new(self.time),
         };
-        let mut live = (1u32 << pixels.len()) - 1;
+        self.at(&film, (1u32 << pixels.len()) - 1)
+    }
+
+    /// The packet through `film`'s points at its times, and the lanes of `live` where the
+    /// camera has a frame at the lane's time (the others' samples are black, as
+    /// [`CameraRays::ray`] makes them).
+    fn at(&mut self, film: &FilmLanes, mut live: u32) -> (RayPacket, u32) {
         if !self.still {
             let (frame, defined) = frames_at(self.camera.camera, film.time);
             self.frame = frame;
             live &= defined;
         }
-        (self.packet(&film), live)
+        (self.packet(film), live)
     }
 
     /// The lanes' rays through the film points `film` at its times:

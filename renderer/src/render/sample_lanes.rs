@@ -1,21 +1,25 @@
-//! Sample `i` of [`LANES`] pixels at once, in lanes, where a frame's samples are plain
-//! arithmetic: points shifted per pixel (not scrambled), box spatial and box time filters (the
-//! matched scenes' sampling). Pixel-major packets give every lane the same frame point, so a
-//! sample is a splat, an add per axis and a few more lane operations, where
-//! [`PixelSampler::sample`] per lane costs a lookup, a branch per axis and the time warp's
-//! f64 round trip, and leaves the lanes to be gathered from scalars.
+//! Sample `i` of [`LANES`] pixels at once, in lanes, wherever the pixels shift the frame's
+//! points (not scrambled): any spatial warp and time filter, the thesis's Gaussian and
+//! triangle filters included. Pixel-major packets give every lane the same frame point, so a
+//! sample is a splat, an add per axis, the warps in lanes
+//! ([`SpatialWarp::offset_lanes`], [`TimeFilter::warp_lanes`]) and a few more lane
+//! operations, where [`PixelSampler::sample`] per lane costs a lookup, a branch per axis and
+//! the warps one lane at a time, and leaves the lanes to be gathered from scalars.
 //!
 //! Bit identity with [`PixelSampler::sample`] and [`super::CameraRays::ray`]: the shift is
-//! [`crate::sampling::shift::wrap`] (`r = a + s`, `r - 1` where `r >= 1`), the box offset is
-//! `(u - 1/2, v - 1/2)`, the box time warp is the identity (`u as f64 as f32` is `u`), the
-//! time is `t0 + t (t1 - t0)` and the film point `(x + 1/2) + dx`, each in that order.
+//! [`crate::sampling::shift::wrap`] (`r = a + s`, `r - 1` where `r >= 1`), the warps are
+//! lane by lane the scalar ones (tested in their modules), the time is `t0 + t (t1 - t0)` and
+//! the film point `(x + 1/2) + dx`, each in that order.
 
 use crate::accel::packet::{LANES, Lane};
-use crate::sampling::{FrameSampler, PixelSampler};
+use crate::sampling::warp::SpatialWarp;
+use crate::sampling::{FrameSampler, PixelSampler, TimeFilter};
 
-/// A frame's samples in lanes (see the module notes).
-pub(super) struct PlainSamples<'a> {
+/// A frame's shifted samples in lanes (see the module notes).
+pub(super) struct ShiftedSamples<'a> {
     points: &'a [[f32; 3]],
+    spatial: SpatialWarp,
+    time: TimeFilter,
     shutter: (f32, f32),
 }
 
@@ -26,11 +30,15 @@ pub(super) struct FilmLanes {
     pub(super) time: Lane,
 }
 
-impl<'a> PlainSamples<'a> {
-    /// The frame's samples in lanes, or `None` unless they are plain arithmetic.
+impl<'a> ShiftedSamples<'a> {
+    /// The frame's samples in lanes, or `None` when its pixels scramble the points.
     pub(super) fn new(sampler: &'a FrameSampler, shutter: (f32, f32)) -> Option<Self> {
-        let points = sampler.plain_points()?;
-        Some(Self { points, shutter })
+        Some(Self {
+            points: sampler.shifted_points()?,
+            spatial: sampler.spatial(),
+            time: sampler.time_filter(),
+            shutter,
+        })
     }
 
     /// The pixels' shifts, per axis.
@@ -45,11 +53,12 @@ impl<'a> PlainSamples<'a> {
     pub(super) fn sample(&self, shift: &[Lane; 3], x: Lane, y: f32, i: usize) -> FilmLanes {
         let p = self.points[i];
         let [u, v, t] = std::array::from_fn(|d| wrap(Lane::splat(p[d]), shift[d]));
-        let half = Lane::splat(0.5);
+        let (dx, dy) = self.spatial.offset_lanes(u, v);
+        let t = self.time.warp_lanes(t);
         let (t0, t1) = self.shutter;
         FilmLanes {
-            fx: x + (u - half),
-            fy: Lane::splat(y) + (v - half),
+            fx: x + dx,
+            fy: Lane::splat(y) + dy,
             time: Lane::splat(t0) + t * Lane::splat(t1 - t0),
         }
     }

@@ -134,15 +134,22 @@ impl FrameSampler {
         &self.points
     }
 
-    /// The frame's points when every sample is plain arithmetic on them: shifted per pixel
-    /// (not scrambled), box spatial and box time filters, so that sample `i` of a pixel is
-    /// point `i` wrapped by the pixel's shift, its offset `(u - 1/2, v - 1/2)` and its time `t`
-    /// (what `render/sample_lanes.rs` computes in lanes); `None` otherwise.
-    pub fn plain_points(&self) -> Option<&[[f32; 3]]> {
-        let plain = self.scramble.is_none()
-            && self.spatial == SpatialWarp::Box
-            && self.time == TimeFilter::Box;
-        plain.then_some(&self.points[..])
+    /// The frame's points when every pixel shifts them (not scrambled), so that sample `i` of
+    /// a pixel is point `i` wrapped by the pixel's shift and then warped by
+    /// [`FrameSampler::spatial`] and [`FrameSampler::time_filter`] (what
+    /// `render/sample_lanes.rs` computes in lanes); `None` when the pixels scramble the set.
+    pub fn shifted_points(&self) -> Option<&[[f32; 3]]> {
+        self.scramble.is_none().then_some(&self.points[..])
+    }
+
+    /// The frame's spatial warp.
+    pub fn spatial(&self) -> SpatialWarp {
+        self.spatial
+    }
+
+    /// The frame's time filter.
+    pub fn time_filter(&self) -> TimeFilter {
+        self.time
     }
 
     /// Whether the pixels scramble the set (`randomization: scramble` on a set that has a

@@ -3,6 +3,7 @@
 //! reconstruction filter, so every sample counts equally.
 
 use super::config::SpatialFilter;
+use wide::f32x8;
 
 /// The smallest 1 - u the Gaussian warp accepts: u = 1 (never produced by a wrapped shift, but
 /// possible from callers) then lands at sqrt(-2 ln 2^-24) ≈ 5.77 σ instead of infinity.
@@ -35,6 +36,15 @@ impl SpatialWarp {
             SpatialWarp::Gaussian { sigma } => box_muller(u, v, sigma),
         }
     }
+
+    /// [`SpatialWarp::offset`] of eight (u, v) at once, lane by lane the same bits.
+    #[inline]
+    pub fn offset_lanes(self, u: f32x8, v: f32x8) -> (f32x8, f32x8) {
+        match self {
+            SpatialWarp::Box => (u - f32x8::splat(0.5), v - f32x8::splat(0.5)),
+            SpatialWarp::Gaussian { sigma } => box_muller_lanes(u, v, sigma),
+        }
+    }
 }
 
 /// Box-Muller (Box and Muller 1958): r = sqrt(-2 ln(1 - u)), θ = 2πv; (r cos θ, r sin θ) · σ
@@ -46,6 +56,21 @@ pub fn box_muller(u: f32, v: f32, sigma: f32) -> (f32, f32) {
     let r = sigma * (-2.0 * (1.0 - u).max(MIN_ONE_MINUS_U).ln()).sqrt();
     let (s, c) = (std::f32::consts::TAU * v).sin_cos();
     (r * c, r * s)
+}
+
+/// [`box_muller`] in lanes: each lane does its f32 operations in its order (`max` and `sqrt`
+/// are exact in lanes as in f32), with libm's `ln` and `sin_cos` per lane.
+#[inline]
+pub fn box_muller_lanes(u: f32x8, v: f32x8, sigma: f32) -> (f32x8, f32x8) {
+    let kept = (f32x8::ONE - u).max(f32x8::splat(MIN_ONE_MINUS_U));
+    let ln = f32x8::new(kept.to_array().map(f32::ln));
+    let r = f32x8::splat(sigma) * (f32x8::splat(-2.0) * ln).sqrt();
+    let angle = (f32x8::splat(std::f32::consts::TAU) * v).to_array();
+    let (mut s, mut c) = ([0.0; 8], [0.0; 8]);
+    for (k, a) in angle.into_iter().enumerate() {
+        (s[k], c[k]) = a.sin_cos();
+    }
+    (r * f32x8::new(c), r * f32x8::new(s))
 }
 
 #[cfg(test)]
@@ -74,6 +99,30 @@ mod tests {
         }
         assert_eq!(box_muller(0.0, 0.3, 0.5), (0.0, 0.0));
         assert_eq!(SpatialWarp::Box.offset(0.0, 0.75), (-0.5, 0.25));
+    }
+
+    #[test]
+    fn lanes_are_the_scalar_warp_to_the_bit() {
+        // Random points, both ends and the clamp at u = 1, for both warps.
+        let mut points = vec![(0.0, 0.0), (1.0, 1.0), (0.999_999_94, 0.5), (0.5, 0.25)];
+        for i in 0..4_000u64 {
+            let c = |k: u64| hash::unit_f32(hash::hash(13, &[i, k]));
+            points.push((c(0), c(1)));
+        }
+        for warp in [SpatialWarp::Box, SpatialWarp::Gaussian { sigma: 0.37 }] {
+            for group in points.chunks(8) {
+                let lane = |f: fn(&(f32, f32)) -> f32| {
+                    f32x8::new(std::array::from_fn(|k| f(&group[k % group.len()])))
+                };
+                let (dx, dy) = warp.offset_lanes(lane(|p| p.0), lane(|p| p.1));
+                for k in 0..8 {
+                    let (u, v) = group[k % group.len()];
+                    let (x, y) = warp.offset(u, v);
+                    let got = (dx.as_array()[k].to_bits(), dy.as_array()[k].to_bits());
+                    assert_eq!(got, (x.to_bits(), y.to_bits()), "{warp:?} at ({u}, {v})");
+                }
+            }
+        }
     }
 
     #[test]
