@@ -60,6 +60,8 @@ pub mod light;
 #[cfg(feature = "tracer")]
 pub mod material;
 #[cfg(feature = "tracer")]
+pub mod math;
+#[cfg(feature = "tracer")]
 pub mod metrics;
 #[cfg(feature = "tracer")]
 pub mod motion;

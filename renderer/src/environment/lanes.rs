@@ -4,19 +4,20 @@
 //! Why: in the thesis's plane scene nearly every camera ray sees the sky, and one lookup at a
 //! time cost more than the mesh it misses (`perf`, `sample_cost` frame 93: the bilinear
 //! filter 18%, its square root, division, floors, column wrap and twelve products one lane at
-//! a time). Here the direction's length and angle cosine, the texel coordinates, the floors,
-//! the weights and the three interpolations run in lanes; what has no lane form stays per
-//! lane: libm's `atan2f` and `acosf` (a vector approximation would change the bits) and the
-//! four texel loads.
+//! a time). Here the direction's length and angle cosine, `atan2` and `acos`
+//! ([`crate::math`]'s polynomials, which the scalar lookup uses too), the texel coordinates,
+//! the floors, the weights and the three interpolations run in lanes; only the four texel
+//! loads stay per lane.
 //!
 //! Bit identity with [`Environment::radiance`]: each lane does its f32 operations in its
 //! order (the length is glam's SSE2 `sqrt((x x + y y) + z z)`, [`dot`]; `Vec3::lerp` is
-//! `a (1 - s) + b s`; Rust never fuses a multiply-add), the same libm calls, and the floor of
+//! `a (1 - s) + b s`; Rust never fuses a multiply-add), the same [`crate::math`] functions, and the floor of
 //! [`super::floor`] (the same value for every f32, tested). The tests compare both over many
 //! directions, degenerate ones included.
 
 use super::{Environment, PI, wrap_column};
-use crate::accel::packet::{LANES, Lane, dot};
+use crate::accel::packet::{LANES, Lane, dot, lane_mask};
+use crate::math;
 
 /// A vector per lane.
 type V3 = [Lane; 3];
@@ -34,14 +35,13 @@ impl Environment {
         let live = live & defined;
         // Where `len` is positive and finite every component is finite: no NaN to clamp.
         let cos = (d[1] / len).fast_max(-Lane::ONE).fast_min(Lane::ONE);
-        let (x, z, cos) = (x.to_array(), z.to_array(), cos.to_array());
-        let (mut azimuth, mut polar) = ([0.0; LANES], [0.0; LANES]);
-        for i in (0..LANES).filter(|i| live & (1 << i) != 0) {
-            azimuth[i] = x[i].atan2(-z[i]);
-            polar[i] = cos[i].acos();
-        }
-        let u = Lane::new(azimuth) * Lane::splat(0.5 / PI) + Lane::splat(0.5);
-        let v = Lane::new(polar) * Lane::splat(1.0 / PI);
+        // The other lanes' angles are 0, so their weights stay finite and their zero texels
+        // interpolate to zero.
+        let keep = lane_mask(live);
+        let azimuth = keep.bitselect(math::atan2_lanes(x, -z), Lane::ZERO);
+        let polar = keep.bitselect(math::acos_lanes(cos), Lane::ZERO);
+        let u = azimuth * Lane::splat(0.5 / PI) + Lane::splat(0.5);
+        let v = polar * Lane::splat(1.0 / PI);
         let rgb = self.bilinear_lanes(u, v, live);
         rgb.map(|c| c * Lane::splat(self.intensity))
     }

@@ -416,10 +416,39 @@ mod tests {
         })
     }
 
+    /// [`digest`] of the samples as libm's Box-Muller made them before the warp took
+    /// [`crate::math`]'s `ln` and `sin_cos` (issue 30, sixth pass), and the largest distance
+    /// of today's offsets from them, in pixels (the times must be the same bits).
+    fn libm_digest(cfg: &SamplingConfig) -> (u64, f32) {
+        let s = FrameSampler::new(cfg, 2013, 5).unwrap();
+        let SpatialWarp::Gaussian { sigma } = s.spatial else {
+            panic!("the default spatial filter is Gaussian")
+        };
+        let mut far = 0.0f32;
+        let mut h = 0;
+        for (x, y) in (0..7).flat_map(|y| (0..9).map(move |x| (x, y))) {
+            let pixel = s.pixel(x, y);
+            for i in 0..s.spp() {
+                let [u, v, t] = pixel.point(i);
+                let r = sigma * (-2.0 * (1.0 - u).max(1.0 / (1u32 << 24) as f32).ln()).sqrt();
+                let (sin, cos) = (std::f32::consts::TAU * v).sin_cos();
+                let (dx, dy, t) = (r * cos, r * sin, s.time.warp(t));
+                let today = pixel.sample(i);
+                assert_eq!(today.t.to_bits(), t.to_bits());
+                far = far.max((today.dx - dx).abs()).max((today.dy - dy).abs());
+                let bits = [dx, dy, t].map(|c| c.to_bits() as u64);
+                h = hash::hash(h, &bits);
+            }
+        }
+        (h, far)
+    }
+
     #[test]
     fn the_default_randomization_gives_the_same_samples_as_before_it_existed() {
-        // Digests recorded on main before `randomization` existed (commit 9becc42): unset and
-        // an explicit `shift` must give those bytes for every set.
+        // Digests recorded on main before `randomization` existed (commit 9becc42), of the
+        // samples libm's Box-Muller made: unset and an explicit `shift` must give those
+        // points, and today's offsets must lie within rounding of them (a radius of at most
+        // 5.8 sigma times the functions' relative errors, a few 1e-7 pixel).
         let before: [(&str, u32, u64); 6] = [
             ("random", 16, 0x70f5_7ea7_7f18_352c),
             ("stratified", 27, 0x4909_c267_ed0b_bd6e),
@@ -430,19 +459,26 @@ mod tests {
         ];
         for (set, spp, expect) in before {
             let cfg = config(set, spp, "triangle");
-            assert_eq!(digest(&cfg), expect, "{set}");
+            let (libm, far) = libm_digest(&cfg);
+            assert_eq!(libm, expect, "{set}");
+            assert!(far < 1e-6, "{set}: offsets {far} pixel from libm's");
             let shift = SamplingConfig {
                 randomization: Some(Randomization::Shift),
                 ..cfg.clone()
             };
-            assert_eq!(digest(&shift), expect, "{set} with an explicit shift");
+            assert_eq!(
+                libm_digest(&shift).0,
+                expect,
+                "{set} with an explicit shift"
+            );
+            assert_eq!(digest(&shift), digest(&cfg), "{set} with an explicit shift");
             let scramble = SamplingConfig {
                 randomization: Some(Randomization::Scramble),
-                ..cfg
+                ..cfg.clone()
             };
             // Poisson has no scramble and keeps the shift; every other set changes.
             assert_eq!(
-                digest(&scramble) == expect,
+                digest(&scramble) == digest(&cfg),
                 set == "poisson",
                 "{set} scrambled"
             );

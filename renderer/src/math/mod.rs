@@ -1,0 +1,27 @@
+//! The transcendental functions of the hot path in lanes: `ln` and `sin_cos` of the Gaussian
+//! pixel filter's Box-Muller warp ([`crate::sampling::warp`]), `atan2` and `acos` of the
+//! environment map's direction-to-texel mapping ([`crate::environment`]).
+//!
+//! Why: libm has no lane form, so the lanes called `logf`, `sincosf`, `atan2f` and `acosf`
+//! one lane at a time: together about 28% of the thesis's plane scene (frame 93, `perf`,
+//! f82e3ac). These are `wide`'s `f32x8` polynomials (Agner Fog's vector class library, after
+//! Cephes), already a dependency of the lanes: a few operations on eight values at once.
+//!
+//! One code for both paths: each function's scalar form runs the lane form on a splat and
+//! takes lane 0, so the scalar path (the reference of the bit-identity tests) and the lanes
+//! give the same bits by construction. Against libm the results differ at rounding level: each
+//! family's tests measure the largest error against f64 over the inputs the renderer gives it
+//! and bound it: `ln` 1.17 ulp (bound 2), `acos` 1.20 ulp (2), `atan2` 3.10 ulp (4), `sin_cos`
+//! 1.55 x 2^-24 absolute on [-2 pi, 2 pi] (2; libm's f32 `sin_cos` 0.55) (`docs/benchmarks/
+//! lanes.md`, "Sixth pass, plane").
+
+mod inverse_trig;
+mod log;
+mod sin_cos;
+
+pub use inverse_trig::{acos, acos_lanes, atan2, atan2_lanes};
+pub use log::{ln, ln_lanes};
+pub use sin_cos::{sin_cos, sin_cos_lanes};
+
+#[cfg(test)]
+mod error;
