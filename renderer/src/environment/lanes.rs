@@ -11,9 +11,10 @@
 //!
 //! Bit identity with [`Environment::radiance`]: each lane does its f32 operations in its
 //! order (the length is glam's SSE2 `sqrt((x x + y y) + z z)`, [`dot`]; `Vec3::lerp` is
-//! `a (1 - s) + b s`; Rust never fuses a multiply-add), the same [`crate::math`] functions, and the floor of
-//! [`super::floor`] (the same value for every f32, tested). The tests compare both over many
-//! directions, degenerate ones included.
+//! `a (1 - s) + b s`; Rust never fuses a multiply-add), the same [`crate::math`] functions
+//! (the scalar lookup runs their lane form on one value), and the floor of [`super::floor`]
+//! (the same value for every f32, tested). The tests compare both over many directions,
+//! degenerate ones included.
 
 use super::{Environment, PI, wrap_column};
 use crate::accel::packet::{LANES, Lane, dot, lane_mask};

@@ -53,9 +53,10 @@ impl SpatialWarp {
 /// u = 0, the first Hammersley point; 1 - u has the same uniform distribution and is positive
 /// on [0, 1), so u = 0 gives the centre. u = 1 is clamped (see [`MIN_ONE_MINUS_U`]).
 ///
-/// `ln` and `sin_cos` are [`crate::math`]'s, the lanes' polynomials on one value (`ln` within 2 ulp,
-/// `sin_cos` within 2^-23 of the exact values, tested there), not libm's: the same bits as
-/// [`box_muller_lanes`], and libm's results to rounding.
+/// `ln` and `sin_cos` are [`crate::math`]'s, the lanes' polynomials on one value (`ln` within
+/// 2 ulp, `sin_cos` within 2^-23 of the exact values, tested there), not libm's: the same bits
+/// as [`box_muller_lanes`], and libm's results to rounding (the thesis gives the formula, not
+/// the functions).
 #[inline]
 pub fn box_muller(u: f32, v: f32, sigma: f32) -> (f32, f32) {
     let r = sigma * (-2.0 * math::ln((1.0 - u).max(MIN_ONE_MINUS_U))).sqrt();
