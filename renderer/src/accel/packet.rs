@@ -29,7 +29,7 @@ use super::Instance;
 #[cfg(test)]
 use super::SurfaceHit;
 use super::World;
-use super::pose::{Pose, PoseOverTime};
+use super::pose::{Pose, PoseOverTime, Spins};
 use crate::geometry::{Ray, Shape};
 use glam::{Mat3A, Vec3A};
 
@@ -90,7 +90,7 @@ impl SmallPose {
         let (p, velocity): (&Pose, _) = match pose {
             PoseOverTime::Fixed(p) => (p, None),
             PoseOverTime::Translating { at_zero, velocity } => (at_zero, Some(*velocity)),
-            PoseOverTime::Spinning(_) => return None,
+            PoseOverTime::Spinning(_) | PoseOverTime::Orbiting(_) => return None,
         };
         Some(Self {
             translation: p.translation,
@@ -331,17 +331,24 @@ impl SmallShape {
 }
 
 impl SmallWorld {
-    /// The packet form of a world with these instances and poses, or `None` if it has a mesh,
-    /// a spinning instance, or more than [`MAX_INSTANCES`] instances.
-    pub fn new(instances: &[Instance], poses: &[PoseOverTime]) -> Option<Self> {
+    /// The packet form of a world with these instances, their shapes as their poses place
+    /// them and their poses ([`World`]'s), or `None` if it has a mesh, a spinning instance, or
+    /// more than [`MAX_INSTANCES`] instances.
+    pub fn new(
+        instances: &[Instance],
+        shapes: &[Shape],
+        poses: &[PoseOverTime],
+        _spins: &Spins,
+    ) -> Option<Self> {
         if instances.len() > MAX_INSTANCES {
             return None;
         }
         let shapes = instances
             .iter()
+            .zip(shapes)
             .zip(poses)
-            .map(|(instance, pose)| {
-                let kind = match &instance.shape {
+            .map(|((instance, shape), pose)| {
+                let kind = match shape {
                     Shape::Sphere(s) => Kind::Sphere { radius: s.radius },
                     Shape::Plane(p) => Kind::Plane {
                         half_extent: p.half_extent.map(|h| (h.x, h.y)),
