@@ -134,16 +134,22 @@ impl SpinChain {
     }
 
     /// The world position of the object's origin at time `t`, [`SpinChain::at`]'s translation
-    /// (the same operations, so the same bits) without its inverse, with the rotation of spin
-    /// `k` given by `rotation(k, spin)` (which must be `spin.at(t)`: a cache may give it).
-    /// For a sphere, whose pose is its centre ([`super::pose::PoseOverTime::Orbiting`]).
+    /// (the same values; a still offset skips `0 t` and an identity linear part its product,
+    /// which changes at most the sign of a zero) without its inverse, with the rotation of
+    /// spin `k` given by `rotation(k, spin)` (which must be `spin.at(t)`: a cache may give it).
+    /// For a sphere, whose pose is its centre ([`super::pose::PoseOverTime::Orbiting`]); the
+    /// lanes do the same operations (`accel::orbits`).
     #[inline(never)]
     pub fn centre(&self, t: f32, mut rotation: impl FnMut(usize, &Spin) -> Mat3A) -> Vec3A {
-        let mut translation = self.head.offset + self.head.velocity * t;
+        let mut translation = moving(self.head.offset, self.head.velocity, t);
         let mut forward = self.head.linear;
         for (k, (spin, b)) in self.tail.iter().enumerate() {
             let r = rotation(k, spin);
-            translation += forward * (r * (b.offset + b.velocity * t));
+            let turned = r * moving(b.offset, b.velocity, t);
+            translation += match forward == Mat3A::IDENTITY {
+                true => turned,
+                false => forward * turned,
+            };
             if k + 1 < self.tail.len() {
                 forward = forward * r * b.linear;
             }
@@ -170,6 +176,15 @@ impl SpinChain {
             }),
             _ => None,
         }
+    }
+}
+
+/// `p + v t`, or `p` for a still `v` ([`SpinChain::centre`]).
+#[inline(always)]
+pub fn moving(p: Vec3A, v: Vec3A, t: f32) -> Vec3A {
+    match v == Vec3A::ZERO {
+        true => p,
+        false => p + v * t,
     }
 }
 

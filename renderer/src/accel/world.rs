@@ -411,7 +411,7 @@ mod tests {
         }
     }
 
-    /// An orbiting sphere's centre is the spinning pose's translation to the bit, whether
+    /// An orbiting sphere's centre is the spinning pose's translation (equal values), whether
     /// computed alone or through a cache that shares each group's rotation between its
     /// spheres; a sphere without scale keeps its radius exactly.
     #[test]
