@@ -21,7 +21,7 @@
 //! [`SpinChain::centre`]: super::chain::SpinChain::centre
 
 use super::chain::{OneSpin, Spin};
-use super::packet::{LANES, Lane, RayPacket, dot, mul};
+use super::packet::{LANES, Lane, RayPacket, SLACK, dot, mul};
 use super::pose::Orbit;
 use glam::{Mat3A, Vec3A};
 
@@ -226,8 +226,7 @@ impl Orbits {
         let cc = dot(&oc, &oc);
         let hb = dot(&oc, &ray.dir);
         let a = dot(&ray.dir, &ray.dir);
-        let limit =
-            Lane::splat(self.groups[g].bound2) + Lane::splat(64.0 * f32::EPSILON / 2.0) * cc;
+        let limit = Lane::splat(self.groups[g].bound2) + Lane::splat(SLACK) * cc;
         let past = (cc - hb * (hb / a)).simd_gt(limit);
         let away = hb.simd_gt(Lane::ZERO) & cc.simd_gt(limit);
         active & !(past | away).to_bitmask()

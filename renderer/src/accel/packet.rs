@@ -254,13 +254,21 @@ impl RayPacket {
     }
 }
 
+/// The rounding slack of the lanes' "passes clearly outside" tests (the spheres' and the
+/// spinning groups' bounds, `accel::orbits`): `64u` of the squared distance's largest term.
+/// `a |o|^2 - (o·d)^2` is computed with an error of at most `8u a |o|^2` (`(o·d)^2 <= a |o|^2`),
+/// and a line that passes at distance `D` with `D^2 > r^2 + 64u |o|^2` (and `D <= |o|`) passes
+/// at least `32u |o|` outside `r`, more than the foot's rounding in the exact test.
+pub(crate) const SLACK: f32 = 64.0 * f32::EPSILON / 2.0;
+
 /// The nearest sphere root in `(0, t_max)` per lane ([`crate::geometry::Sphere::closest`]'s
 /// arithmetic), `+inf` where there is none; only the lanes of `active` need be right.
 #[inline(always)]
 fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -> Lane {
     let r = Lane::splat(radius);
     let half_b = dot(o, d);
-    let c = dot(o, o) - Lane::splat(radius * radius);
+    let oo = dot(o, o);
+    let c = oo - Lane::splat(radius * radius);
     // Outside (c > 0) and moving away (half_b > 0): q = -(half_b + sqrt(disc)) < 0, so both
     // roots, q / a and c / q, are negative or -0 and neither is above 0. If every active lane
     // is so, skip the division and the square roots (a shadow ray leaving the sphere).
@@ -269,6 +277,17 @@ fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -
         return Lane::splat(f32::INFINITY);
     }
     let a = dot(d, d);
+    // Passing clearly outside: the line's squared distance from the centre times `a`,
+    // `a |o|^2 - (o·d)^2`, above `a r^2 (1 + 2^-10)^2` by more than its rounding
+    // ([`SLACK`]` a |o|^2`), so the foot `f` below, off by a few `u |o|`, is above `r` too and the
+    // lane misses ([`SLACK`]). If every active lane passes outside or moves away, skip the rest.
+    let oo_a = a * oo;
+    let wide = radius * (1.0 + 1.0 / 1024.0);
+    let limit = a * Lane::splat(wide * wide) + Lane::splat(SLACK) * oo_a;
+    let past = (oo_a - half_b * half_b).simd_gt(limit);
+    if active & !(away | past).to_bitmask() == 0 {
+        return Lane::splat(f32::INFINITY);
+    }
     let k = half_b / a;
     let foot: [Lane; 3] = std::array::from_fn(|i| o[i] - d[i] * k);
     let f = dot(&foot, &foot).sqrt();
