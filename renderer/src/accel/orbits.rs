@@ -1,8 +1,9 @@
 //! Orbiting spheres in lanes: their centres at a packet's eight times, and one bound per
 //! spinning group that tells the lanes passing far from all its spheres.
 //!
-//! Centres ([`Orbits::centres`]): each spin's rotation per lane by [`Spin::at`] (libm's
-//! `sincosf`: the scalar path's own call, once per spin, lane and packet), then
+//! Centres ([`Orbits::centres`], each when first asked for): each spin's rotation per lane by
+//! [`Spin::at`] (libm's `sincosf`: the scalar path's own call, once per spin, lane and packet
+//! that needs it), then
 //! [`SpinChain::centre`]'s operations in lanes, in its order ([`Orbiter::centre`]), so a lane's
 //! centre is the scalar path's to the bit. A packet's shadow and mirror rays carry its camera
 //! rays' times, so they share them.
@@ -24,6 +25,7 @@ use super::chain::{OneSpin, Spin};
 use super::packet::{LANES, Lane, RayPacket, SLACK, dot, mul};
 use super::pose::Orbit;
 use glam::{Mat3A, Vec3A};
+use std::cell::Cell;
 
 /// Spinning groups culled together; the spheres of further groups are tested one by one.
 pub(crate) const MAX_GROUPS: usize = 4;
@@ -101,19 +103,43 @@ pub(crate) struct Orbits {
     groups: Vec<Group>,
 }
 
-/// The orbiting spheres' centres at a packet's eight times ([`Orbits::centres`]), and their
-/// groups' heads.
-#[derive(Clone, Copy)]
-pub(crate) struct Centres {
-    centres: [[Lane; 3]; MAX_ORBITS],
+/// The orbiting spheres' centres at a packet's eight times ([`Orbits::centres`]), each worked
+/// out when first asked for (with its spin's rotation per lane, also kept), so a packet none of
+/// whose rays passes near a group pays neither its `sincosf`s nor its centres; and the groups'
+/// heads. One per camera packet, shared by its shadow and mirror rays.
+pub(crate) struct Centres<'a> {
+    orbits: &'a Orbits,
+    time: Lane,
     heads: [[Lane; 3]; MAX_GROUPS],
+    centres: [Cell<[Lane; 3]>; MAX_ORBITS],
+    rotations: [Cell<[[Lane; 3]; 3]>; MAX_SPINS],
+    /// Bit `k`: `centres[k]` is worked out.
+    placed: Cell<u32>,
+    /// Bit `s`: `rotations[s]` is worked out.
+    turned: Cell<u32>,
 }
 
-impl Centres {
+impl Centres<'_> {
     /// Orbit `k`'s centre per lane.
     #[inline(always)]
-    pub(crate) fn of(&self, k: usize) -> &[Lane; 3] {
-        &self.centres[k]
+    pub(crate) fn of(&self, k: usize) -> [Lane; 3] {
+        if self.placed.get() & (1 << k) == 0 {
+            self.place(k);
+        }
+        self.centres[k].get()
+    }
+
+    #[inline(never)]
+    fn place(&self, k: usize) {
+        let o = &self.orbits.orbiters[k];
+        let s = o.spin as usize;
+        if self.turned.get() & (1 << s) == 0 {
+            let t = self.time.to_array();
+            self.rotations[s].set(rotations(&self.orbits.spins[s], &t));
+            self.turned.set(self.turned.get() | 1 << s);
+        }
+        self.centres[k].set(o.centre(&self.rotations[s].get(), self.time));
+        self.placed.set(self.placed.get() | 1 << k);
     }
 }
 
@@ -191,26 +217,22 @@ impl Orbits {
             .map(|(g, group)| (g, group.members.as_slice()))
     }
 
-    /// The centres at the times `time` of a packet's lanes, and the groups' heads; zero
-    /// where there are none.
+    /// The centres at the times `time` of a packet's lanes (each when first asked for), and
+    /// the groups' heads.
     #[inline]
-    pub(crate) fn centres(&self, time: Lane) -> Centres {
+    pub(crate) fn centres(&self, time: Lane) -> Centres<'_> {
         const ZERO: [Lane; 3] = [Lane::ZERO; 3];
-        let t = time.to_array();
-        let used = |s: usize| self.orbiters.iter().any(|o| o.spin as usize == s);
-        let r: [[[Lane; 3]; 3]; MAX_SPINS] = std::array::from_fn(|s| match self.spins.get(s) {
-            Some(spin) if used(s) => rotations(spin, &t),
-            _ => [ZERO; 3],
-        });
         Centres {
-            centres: std::array::from_fn(|k| match self.orbiters.get(k) {
-                Some(o) => o.centre(&r[o.spin as usize], time),
-                None => ZERO,
-            }),
+            orbits: self,
+            time,
             heads: std::array::from_fn(|g| match self.groups.get(g) {
                 Some(group) => moving(group.head.offset, group.head.velocity, time),
                 None => ZERO,
             }),
+            centres: std::array::from_fn(|_| Cell::new(ZERO)),
+            rotations: std::array::from_fn(|_| Cell::new([ZERO; 3])),
+            placed: Cell::new(0),
+            turned: Cell::new(0),
         }
     }
 

@@ -148,7 +148,7 @@ impl SmallPose {
     fn ray_to_object(&self, ray: &RayPacket, centres: &Centres) -> ([Lane; 3], [Lane; 3]) {
         let p = self.translation.to_array();
         let tr: [Lane; 3] = match (self.orbit, self.velocity) {
-            (Some(k), _) => *centres.of(k),
+            (Some(k), _) => centres.of(k),
             (None, None) => p.map(Lane::splat),
             (None, Some(v)) => {
                 let v = v.to_array();
@@ -442,7 +442,7 @@ impl SmallWorld {
     /// The orbiting spheres' centres (and their groups' heads) at the times `time` of a
     /// packet's lanes ([`Orbits::centres`]), for every ray of the packet.
     #[inline]
-    pub(crate) fn centres(&self, time: Lane) -> Centres {
+    pub(crate) fn centres(&self, time: Lane) -> Centres<'_> {
         self.orbits.centres(time)
     }
 }
