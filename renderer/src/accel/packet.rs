@@ -24,10 +24,11 @@
 //! root below the running `t_max` is its nearest root below the ray's `t_max` whenever it can
 //! win. Fixed and translating instances, turned or not, are computed exactly; so are spheres
 //! orbiting under a chain of one spin ([`crate::accel::pose::PoseOverTime::Orbiting`]): their
-//! centres at the packet's eight times are worked out once per packet ([`SmallWorld::centres`],
-//! each spin's rotation per lane by [`Spin::at`], the scalar path's own call, then
-//! [`SpinChain::centre`]'s products in lanes) and shared by the packet's shadow and mirror rays,
-//! which carry the same times. Other spinning instances are not packet-eligible.
+//! centres at the packet's eight times are worked out once per packet, each when first asked
+//! for (`SmallWorld::centres`: each spin's rotation per lane by
+//! [`Spin::at`](super::chain::Spin::at), the scalar path's own call, then
+//! [`SpinChain::centre`]'s products in lanes), and shared by the packet's shadow and mirror
+//! rays, which carry the same times. Other spinning instances are not packet-eligible.
 //!
 //! [`SpinChain::centre`]: super::chain::SpinChain::centre
 

@@ -40,7 +40,8 @@ impl Pose {
         }
     }
 
-    /// A pose that only places: rays move by `-centre` alone (a sphere's, [`PoseOverTime::centred`]).
+    /// A pose that only places: rays move by `-centre` alone (a sphere's,
+    /// [`PoseOverTime::centred`]).
     #[inline]
     pub fn centred(centre: Vec3A) -> Self {
         Self {

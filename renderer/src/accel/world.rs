@@ -7,7 +7,7 @@
 //! merged with its neighbours'); in a world where something moves, one per piece of the
 //! shutter, each ray walking its time's ([`Slices`]). The top level's leaf test
 //! moves the ray into the instance's object space at the ray's time ([`PoseOverTime`]) and asks
-//! the shape (a sphere in centre form is met in world space, about its centre: [`traced`]).
+//! the shape (a sphere in centre form is met in world space, about its centre: `traced`).
 //! Unbounded planes cannot be boxed: every ray tests them after the top level.
 //!
 //! obvhs's `CwBvh::ray_traverse_tlas_blas` cannot do this: it does not transform rays.

@@ -10,11 +10,16 @@
 //! [`lit_by`](super::lit_by), [`SurfaceHit::spawn_point`], [`Light::sample`]) in the scalar
 //! order, the sums add the same terms in the same order (ambient, then each light in scene
 //! order, then the reflection: [`Tracer::local`]), and the ray count grows by the same rays.
-//! What the lanes do not do, a lane hands to the scalar code: a ray the packet form cannot
-//! trace (see [`crate::accel::packet`]) is traced by [`Tracer::radiance`], a shadow ray by
-//! [`World::occluded`](crate::accel::World::occluded), a mirror reflection by
-//! [`Tracer::reflection`], and the Phong lobe's `powf` per lane. The lanes that miss look up
-//! the environment together ([`crate::environment::Environment::radiance_lanes`]).
+//! Mirror reflections stay in lanes too: each reflective lane's mirror ray and Fresnel weight
+//! are the scalar [`bounce`]'s, and the packet's mirror rays are traced as a packet one bounce
+//! deeper, recursively to `max_depth` (`Tracer::packet_at`), each lane adding `weight * L`
+//! last, as [`Tracer::shade`] does. What the lanes do not do, a lane hands to the scalar code:
+//! a ray the packet form cannot trace (see [`crate::accel::packet`]) is traced by
+//! [`Tracer::radiance`], a shadow ray by [`World::occluded`](crate::accel::World::occluded), and
+//! the Phong lobe's and the Fresnel curve's `powf` per lane. The lanes that miss look up the
+//! environment together ([`crate::environment::Environment::radiance_lanes`]). The orbiting
+//! spheres' centres are worked out once per camera packet ([`SmallWorld::centres`]) and shared
+//! by its shadow and mirror rays, which keep its times.
 
 use super::{Surface, Tracer, bounce, phong};
 use crate::accel::SurfaceHit;
