@@ -12,12 +12,13 @@
 //! wheel) stay within `B` of the group's head `p_0 + u_0 t` (`B` the largest `s |p_1| + R`
 //! of its members, `s` the scale of `L_0 = s Q`, a sphere's own offset `p_1` still). A lane
 //! whose ray passes farther than `B` from the head, or leaves it from outside, cannot hit any
-//! of them, so brute force skips the whole group for a packet none of whose lanes pass near. The test rounds: it culls a
-//! lane only when the computed squared distance exceeds `B^2 (1 + 2^-10)^2` by `64u |o - h|^2`
-//! (each of `|o - h|^2`, `(o - h)·d` and `d·d` rounds by a few `u`, and the squared distance
-//! they give is off by at most `8u |o - h|^2`); a lane culled passes the spheres by at least
-//! `2^-10 B` plus the slack, far more than the sphere test's own rounding, so the sphere
-//! test would have missed too: the same answers, bit for bit (`accel::packet`'s tests).
+//! of them, so brute force skips the whole group for a packet none of whose lanes pass near.
+//! The test rounds: it culls a lane only when the computed squared distance exceeds
+//! `B^2 (1 + 2^-10)^2` by `64u |o - h|^2` (each of `|o - h|^2`, `(o - h)·d` and `d·d` rounds by
+//! a few `u`, and the squared distance they give is off by at most `8u |o - h|^2`); a lane
+//! culled passes the spheres by at least `2^-10 B` plus the slack, far more than the sphere
+//! test's own rounding, so the sphere test would have missed too: the same answers, bit for
+//! bit (`accel::packet`'s tests).
 //!
 //! [`SpinChain::centre`]: super::chain::SpinChain::centre
 
