@@ -71,6 +71,16 @@ impl Motion {
         self.layers.iter().all(MotionLayer::is_static)
     }
 
+    /// The chain's scale when every layer scales uniformly (the product of the layers' factors,
+    /// outermost first; exactly 1 for a chain without scale), else `None`. A sphere under such
+    /// a chain is a sphere of the scaled radius about the chain's translation, at any time.
+    pub fn uniform_scale(&self) -> Option<f32> {
+        self.layers.iter().try_fold(1.0f32, |s, l| {
+            let k = l.scale;
+            (k.x == k.y && k.y == k.z).then_some(s * k.x)
+        })
+    }
+
     /// Whether no layer spins: the pose then only translates, linearly in time
     /// (see [`Motion::linear_velocity`]).
     pub fn is_translation_only(&self) -> bool {

@@ -48,9 +48,18 @@ impl Block {
 
 /// A rotation about a fixed unit axis at a constant rate (radians per second).
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Spin {
+pub struct Spin {
     axis: Vec3,
     rate: f32,
+}
+
+impl Spin {
+    /// The rotation at time `t`: the one formula of the poses, the spheres' centres and their
+    /// lanes (`accel::packet`), so that all give the same bits for the same time.
+    #[inline]
+    pub fn at(&self, t: f32) -> Mat3A {
+        Mat3A::from_axis_angle(self.axis, self.rate * t)
+    }
 }
 
 /// A layer's rest orientation and scale `Q S`, and its inverse `S^-1 Q^T` (`Q` is a unit
@@ -112,7 +121,7 @@ impl SpinChain {
         let mut forward = self.head.linear;
         let mut inverse = self.head.inverse;
         for (k, (spin, b)) in self.tail.iter().enumerate() {
-            let r = Mat3A::from_axis_angle(spin.axis, spin.rate * t);
+            let r = spin.at(t);
             translation += forward * (r * (b.offset + b.velocity * t));
             inverse = b.inverse * (r.transpose() * inverse);
             // Matrix-vector products where they do, and no forward part after the innermost
@@ -123,6 +132,71 @@ impl SpinChain {
         }
         Pose::new(translation, inverse)
     }
+
+    /// The world position of the object's origin at time `t`, [`SpinChain::at`]'s translation
+    /// (the same values; a still offset skips `0 t` and an identity linear part its product,
+    /// which changes at most the sign of a zero) without its inverse, with the rotation of
+    /// spin `k` given by `rotation(k, spin)` (which must be `spin.at(t)`: a cache may give it).
+    /// For a sphere, whose pose is its centre ([`super::pose::PoseOverTime::Orbiting`]); the
+    /// lanes do the same operations (`accel::orbits`).
+    #[inline(never)]
+    pub fn centre(&self, t: f32, mut rotation: impl FnMut(usize, &Spin) -> Mat3A) -> Vec3A {
+        let mut translation = moving(self.head.offset, self.head.velocity, t);
+        let mut forward = self.head.linear;
+        for (k, (spin, b)) in self.tail.iter().enumerate() {
+            let r = rotation(k, spin);
+            let turned = r * moving(b.offset, b.velocity, t);
+            translation += match forward == Mat3A::IDENTITY {
+                true => turned,
+                false => forward * turned,
+            };
+            if k + 1 < self.tail.len() {
+                forward = forward * r * b.linear;
+            }
+        }
+        translation
+    }
+
+    /// The chain's spins, outermost first.
+    pub fn spins(&self) -> impl Iterator<Item = &Spin> {
+        self.tail.iter().map(|(s, _)| s)
+    }
+
+    /// A chain of one spin as the lanes evaluate it: the centre at `t` is
+    /// `(p_0 + u_0 t) + L_0 (R(t) (p_1 + u_1 t))` ([`SpinChain::centre`]'s operations).
+    pub fn single(&self) -> Option<OneSpin> {
+        match self.tail.as_slice() {
+            [(spin, b)] => Some(OneSpin {
+                spin: *spin,
+                offset: self.head.offset,
+                velocity: self.head.velocity,
+                forward: self.head.linear,
+                inner_offset: b.offset,
+                inner_velocity: b.velocity,
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// `p + v t`, or `p` for a still `v` ([`SpinChain::centre`]).
+#[inline(always)]
+pub fn moving(p: Vec3A, v: Vec3A, t: f32) -> Vec3A {
+    match v == Vec3A::ZERO {
+        true => p,
+        false => p + v * t,
+    }
+}
+
+/// A chain of one spin, laid out for the lanes ([`SpinChain::single`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OneSpin {
+    pub spin: Spin,
+    pub offset: Vec3A,
+    pub velocity: Vec3A,
+    pub forward: Mat3A,
+    pub inner_offset: Vec3A,
+    pub inner_velocity: Vec3A,
 }
 
 #[cfg(test)]

@@ -22,14 +22,23 @@
 //! Otherwise the top level cannot change the answer: its boxes are the instances' swept bounds,
 //! padded, so it only culls instances that cannot hold a nearer hit, and each shape's nearest
 //! root below the running `t_max` is its nearest root below the ray's `t_max` whenever it can
-//! win. Spinning instances are not packet-eligible (their per-ray pose is a chain of
-//! rotations); fixed and translating ones, turned or not, are computed exactly.
+//! win. Fixed and translating instances, turned or not, are computed exactly; so are spheres
+//! orbiting under a chain of one spin ([`crate::accel::pose::PoseOverTime::Orbiting`]): their
+//! centres at the packet's eight times are worked out once per packet, each when first asked
+//! for (`SmallWorld::centres`: each spin's rotation per lane by
+//! [`Spin::at`](super::chain::Spin::at), the scalar path's own call, then
+//! [`SpinChain::centre`]'s products in lanes), and shared by the packet's shadow and mirror
+//! rays, which carry the same times. Other spinning instances are not packet-eligible.
+//!
+//! [`SpinChain::centre`]: super::chain::SpinChain::centre
 
 use super::Instance;
 #[cfg(test)]
 use super::SurfaceHit;
 use super::World;
-use super::pose::{Pose, PoseOverTime};
+pub(crate) use super::orbits::Centres;
+use super::orbits::Orbits;
+use super::pose::{Pose, PoseOverTime, Spins};
 use crate::geometry::{Ray, Shape};
 use glam::{Mat3A, Vec3A};
 
@@ -41,15 +50,23 @@ pub const LANES: usize = 8;
 /// One `f32` per ray of a packet.
 pub type Lane = wide::f32x8;
 
-/// At most this many instances: brute force tests each for every ray, and past about this
-/// many the top-level BVH (which skips most of them) wins even against a packet.
-pub const MAX_INSTANCES: usize = 16;
+/// At most this many instances: brute force tests each for every ray (an orbiting group's
+/// spheres only where its bound lets a lane through, `accel::orbits`), and past some number
+/// the top-level BVH (which skips most of them) wins even against a packet. The thesis's
+/// spheres scene, 22 instances (20 of them orbiting in 3 groups), takes 0.73x the time and
+/// 0.93x the instructions in packets, mirror bounces included, that it takes through the top
+/// level (`docs/benchmarks/lanes.md`, "Sixth pass, spheres"); larger worlds were not measured.
+pub const MAX_INSTANCES: usize = 24;
 
 /// The packet form of a world of at most [`MAX_INSTANCES`] spheres and planes.
 #[derive(Clone, Debug)]
 pub struct SmallWorld {
     /// One per instance, in the world's instance order.
     shapes: Vec<SmallShape>,
+    /// The orbiting spheres ([`SmallPose::orbit`] indexes them) and their groups.
+    orbits: Orbits,
+    /// The instances tested by every ray: all but the orbiting spheres of a group.
+    loose: Vec<u32>,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -75,7 +92,8 @@ enum Kind {
 
 /// A fixed or translating pose: translation `at + velocity * t` (as [`PoseOverTime::at`]
 /// computes it; a fixed pose adds nothing, not even `0 * t`, which would turn `-0` into `+0`),
-/// and the object-from-world matrix unless the pose is unturned.
+/// and the object-from-world matrix unless the pose is unturned; or an orbiting sphere's,
+/// whose translation is its centre at the packet's times.
 #[derive(Clone, Copy, Debug)]
 struct SmallPose {
     translation: Vec3A,
@@ -83,20 +101,35 @@ struct SmallPose {
     matrix: Option<Mat3A>,
     /// `matrix` transposed (normals go to world space through it).
     transposed: Mat3A,
+    /// An orbiting sphere's index in [`Orbits`] (and in [`Centres`]).
+    orbit: Option<usize>,
 }
 
 impl SmallPose {
-    fn new(pose: &PoseOverTime) -> Option<Self> {
+    /// The packet form of `pose`; an orbiting one's chain goes into `orbits`.
+    fn new(pose: &PoseOverTime, orbits: &mut Orbits) -> Option<Self> {
         let (p, velocity): (&Pose, _) = match pose {
             PoseOverTime::Fixed(p) => (p, None),
             PoseOverTime::Translating { at_zero, velocity } => (at_zero, Some(*velocity)),
             PoseOverTime::Spinning(_) => return None,
+            PoseOverTime::Orbiting(o) => {
+                let k = orbits.add(o)?;
+                // Unturned: rays move by the centre alone.
+                return Some(Self {
+                    translation: Vec3A::ZERO,
+                    velocity: None,
+                    matrix: None,
+                    transposed: Mat3A::IDENTITY,
+                    orbit: Some(k),
+                });
+            }
         };
         Some(Self {
             translation: p.translation,
             velocity,
             matrix: (!p.unturned).then_some(p.object_from_world),
             transposed: p.object_from_world.transpose(),
+            orbit: None,
         })
     }
 
@@ -113,11 +146,12 @@ impl SmallPose {
 
     /// The packet's rays in object space: `(origin, dir)` per axis.
     #[inline(always)]
-    fn ray_to_object(&self, ray: &RayPacket) -> ([Lane; 3], [Lane; 3]) {
+    fn ray_to_object(&self, ray: &RayPacket, centres: &Centres) -> ([Lane; 3], [Lane; 3]) {
         let p = self.translation.to_array();
-        let tr: [Lane; 3] = match self.velocity {
-            None => p.map(Lane::splat),
-            Some(v) => {
+        let tr: [Lane; 3] = match (self.orbit, self.velocity) {
+            (Some(k), _) => centres.of(k),
+            (None, None) => p.map(Lane::splat),
+            (None, Some(v)) => {
                 let v = v.to_array();
                 std::array::from_fn(|k| Lane::splat(p[k]) + Lane::splat(v[k]) * ray.time)
             }
@@ -132,7 +166,7 @@ impl SmallPose {
 
 /// `m * v` lane by lane in glam's order: `(x_axis v.x + y_axis v.y) + z_axis v.z`.
 #[inline(always)]
-fn mul(m: &Mat3A, v: [Lane; 3]) -> [Lane; 3] {
+pub(crate) fn mul(m: &Mat3A, v: [Lane; 3]) -> [Lane; 3] {
     let (cx, cy, cz) = (
         m.x_axis.to_array(),
         m.y_axis.to_array(),
@@ -221,13 +255,21 @@ impl RayPacket {
     }
 }
 
+/// The rounding slack of the lanes' "passes clearly outside" tests (the spheres' and the
+/// spinning groups' bounds, `accel::orbits`): `64u` of the squared distance's largest term.
+/// `a |o|^2 - (o·d)^2` is computed with an error of at most `8u a |o|^2` (`(o·d)^2 <= a |o|^2`),
+/// and a line that passes at distance `D` with `D^2 > r^2 + 64u |o|^2` (and `D <= |o|`) passes
+/// at least `32u |o|` outside `r`, more than the foot's rounding in the exact test.
+pub(crate) const SLACK: f32 = 64.0 * f32::EPSILON / 2.0;
+
 /// The nearest sphere root in `(0, t_max)` per lane ([`crate::geometry::Sphere::closest`]'s
 /// arithmetic), `+inf` where there is none; only the lanes of `active` need be right.
 #[inline(always)]
 fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -> Lane {
     let r = Lane::splat(radius);
     let half_b = dot(o, d);
-    let c = dot(o, o) - Lane::splat(radius * radius);
+    let oo = dot(o, o);
+    let c = oo - Lane::splat(radius * radius);
     // Outside (c > 0) and moving away (half_b > 0): q = -(half_b + sqrt(disc)) < 0, so both
     // roots, q / a and c / q, are negative or -0 and neither is above 0. If every active lane
     // is so, skip the division and the square roots (a shadow ray leaving the sphere).
@@ -236,6 +278,17 @@ fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -
         return Lane::splat(f32::INFINITY);
     }
     let a = dot(d, d);
+    // Passing clearly outside: the line's squared distance from the centre times `a`,
+    // `a |o|^2 - (o·d)^2`, above `a r^2 (1 + 2^-10)^2` by more than its rounding
+    // ([`SLACK`]` a |o|^2`), so the foot `f` below, off by a few `u |o|`, is above `r` too and the
+    // lane misses ([`SLACK`]). If every active lane passes outside or moves away, skip the rest.
+    let oo_a = a * oo;
+    let wide = radius * (1.0 + 1.0 / 1024.0);
+    let limit = a * Lane::splat(wide * wide) + Lane::splat(SLACK) * oo_a;
+    let past = (oo_a - half_b * half_b).simd_gt(limit);
+    if active & !(away | past).to_bitmask() == 0 {
+        return Lane::splat(f32::INFINITY);
+    }
     let k = half_b / a;
     let foot: [Lane; 3] = std::array::from_fn(|i| o[i] - d[i] * k);
     let f = dot(&foot, &foot).sqrt();
@@ -308,10 +361,10 @@ impl SmallShape {
     /// normal alike for spheres and planes): the object-space normal ([`Shape::surface`]),
     /// through the inverse transpose, normalised, as [`World::intersect`] does it.
     #[inline(always)]
-    fn world_normal(&self, ray: &RayPacket, t: Lane) -> [Lane; 3] {
+    fn world_normal(&self, ray: &RayPacket, t: Lane, centres: &Centres) -> [Lane; 3] {
         match self.kind {
             Kind::Sphere { .. } => {
-                let (o, d) = self.pose.ray_to_object(ray);
+                let (o, d) = self.pose.ray_to_object(ray, centres);
                 self.pose.world_normal(point_at(&o, &d, t))
             }
             Kind::Plane { .. } => self.plane_normal.map(Lane::splat),
@@ -321,8 +374,8 @@ impl SmallShape {
     /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none; only the lanes of `active`
     /// need be right.
     #[inline(always)]
-    fn closest(&self, ray: &RayPacket, active: u32) -> Lane {
-        let (o, d) = self.pose.ray_to_object(ray);
+    fn closest(&self, ray: &RayPacket, active: u32, centres: &Centres) -> Lane {
+        let (o, d) = self.pose.ray_to_object(ray, centres);
         match self.kind {
             Kind::Sphere { radius } => sphere(radius, &o, &d, ray.t_max, active),
             Kind::Plane { half_extent } => plane(half_extent, &o, &d, ray.t_max, active),
@@ -331,24 +384,34 @@ impl SmallShape {
 }
 
 impl SmallWorld {
-    /// The packet form of a world with these instances and poses, or `None` if it has a mesh,
-    /// a spinning instance, or more than [`MAX_INSTANCES`] instances.
-    pub fn new(instances: &[Instance], poses: &[PoseOverTime]) -> Option<Self> {
+    /// The packet form of a world with these instances, their shapes as their poses place
+    /// them, their poses and the distinct spins ([`World`]'s), or `None` if it has a mesh, a
+    /// spinning instance other than a sphere orbiting under one spin, or more than
+    /// [`MAX_INSTANCES`] instances.
+    pub fn new(
+        instances: &[Instance],
+        shapes: &[Shape],
+        poses: &[PoseOverTime],
+        spins: &Spins,
+    ) -> Option<Self> {
         if instances.len() > MAX_INSTANCES {
             return None;
         }
+        let spins = (0..spins.len() as u32).map(|i| *spins.get(i)).collect();
+        let mut orbits = Orbits::new(spins);
         let shapes = instances
             .iter()
+            .zip(shapes)
             .zip(poses)
-            .map(|(instance, pose)| {
-                let kind = match &instance.shape {
+            .map(|((instance, shape), pose)| {
+                let kind = match shape {
                     Shape::Sphere(s) => Kind::Sphere { radius: s.radius },
                     Shape::Plane(p) => Kind::Plane {
                         half_extent: p.half_extent.map(|h| (h.x, h.y)),
                     },
                     Shape::Mesh(_) => return None,
                 };
-                let pose = SmallPose::new(pose)?;
+                let pose = SmallPose::new(pose, &mut orbits)?;
                 let y = pose.world_normal([Lane::ZERO, Lane::ONE, Lane::ZERO]);
                 Some(SmallShape {
                     kind,
@@ -358,7 +421,30 @@ impl SmallWorld {
                 })
             })
             .collect::<Option<Vec<_>>>()?;
-        Some(Self { shapes })
+        let spheres: Vec<(u32, usize, f32)> = (0..shapes.len() as u32)
+            .zip(&shapes)
+            .filter_map(|(i, s)| match (s.pose.orbit, s.kind) {
+                (Some(k), Kind::Sphere { radius }) => Some((i, k, radius)),
+                _ => None,
+            })
+            .collect();
+        let grouped = orbits.group(&spheres);
+        let mut loose: Vec<u32> = (0..shapes.len() as u32)
+            .filter(|&i| shapes[i as usize].pose.orbit.is_none())
+            .collect();
+        loose.extend(grouped);
+        Some(Self {
+            shapes,
+            orbits,
+            loose,
+        })
+    }
+
+    /// The orbiting spheres' centres (and their groups' heads) at the times `time` of a
+    /// packet's lanes ([`Orbits::centres`]), for every ray of the packet.
+    #[inline]
+    pub(crate) fn centres(&self, time: Lane) -> Centres<'_> {
+        self.orbits.centres(time)
     }
 }
 
@@ -388,8 +474,9 @@ impl SmallWorld {
         let mut scalar = live & !simple;
         if simple != 0 {
             let packet = RayPacket::of(rays, simple);
-            let nearest = self.nearest(&packet, simple);
-            scalar |= self.surfaces(&packet, &nearest, simple, &mut out);
+            let centres = self.centres(packet.time);
+            let nearest = self.nearest(&packet, simple, &centres);
+            scalar |= self.surfaces(&packet, &nearest, simple, &centres, &mut out);
         }
         for (i, slot) in out.iter_mut().enumerate() {
             if scalar & (1 << i) != 0 {
@@ -407,6 +494,7 @@ impl SmallWorld {
         ray: &RayPacket,
         nearest: &Nearest,
         simple: u32,
+        centres: &Centres,
         out: &mut [Option<SurfaceHit>; LANES],
     ) -> u32 {
         let tie = simple & nearest.tie.to_bitmask();
@@ -421,7 +509,7 @@ impl SmallWorld {
         while pending != 0 {
             let instance = instances[pending.trailing_zeros() as usize];
             let shape = &self.shapes[instance as usize];
-            let normal = lanes_of(&shape.world_normal(ray, nearest.t));
+            let normal = lanes_of(&shape.world_normal(ray, nearest.t, centres));
             for (i, slot) in out.iter_mut().enumerate() {
                 if pending & (1 << i) != 0 && instances[i] == instance {
                     *slot = Some(SurfaceHit {
@@ -444,7 +532,10 @@ impl SmallWorld {
         let simple = Self::simple_lanes(world, rays, live);
         let blocked = match simple {
             0 => 0,
-            _ => self.blocked(&RayPacket::of(rays, simple), simple),
+            _ => {
+                let packet = RayPacket::of(rays, simple);
+                self.blocked(&packet, simple, &self.centres(packet.time))
+            }
         };
         std::array::from_fn(|i| {
             if live & (1 << i) == 0 {
@@ -478,10 +569,22 @@ impl SmallWorld {
     /// Each lane's nearest hit over every instance, right for the lanes of `simple` (from
     /// [`SmallWorld::simple_packet`]).
     #[inline]
-    pub(crate) fn nearest(&self, ray: &RayPacket, simple: u32) -> Nearest {
+    pub(crate) fn nearest(&self, ray: &RayPacket, simple: u32, centres: &Centres) -> Nearest {
         let mut nearest = Nearest::new();
-        for (i, shape) in self.shapes.iter().enumerate() {
-            nearest.add(shape.closest(ray, simple), i as u32);
+        for &i in &self.loose {
+            let shape = &self.shapes[i as usize];
+            nearest.add(shape.closest(ray, simple, centres), i);
+        }
+        // A group's spheres only for the lanes passing near it (a lane culled would miss).
+        for (g, members) in self.orbits.groups() {
+            let near = self.orbits.near(g, ray, centres, simple);
+            if near == 0 {
+                continue;
+            }
+            for &i in members {
+                let t = self.shapes[i as usize].closest(ray, near, centres);
+                nearest.add(lane_mask(near).bitselect(t, Lane::splat(f32::INFINITY)), i);
+            }
         }
         nearest
     }
@@ -494,23 +597,42 @@ impl SmallWorld {
     /// The unit world-space normal of instance `i` at parameter `t` of each lane's ray, as
     /// [`World::intersect`] gives it (geometric and shading normal alike).
     #[inline]
-    pub(crate) fn normal(&self, i: usize, ray: &RayPacket, t: Lane) -> [Lane; 3] {
-        self.shapes[i].world_normal(ray, t)
+    pub(crate) fn normal(
+        &self,
+        i: usize,
+        ray: &RayPacket,
+        t: Lane,
+        centres: &Centres,
+    ) -> [Lane; 3] {
+        self.shapes[i].world_normal(ray, t, centres)
     }
 
     /// [`World::occluded`] for the lanes of `simple` (from [`SmallWorld::simple_packet`]):
     /// the lanes blocked.
     #[inline]
-    pub(crate) fn blocked(&self, ray: &RayPacket, simple: u32) -> u32 {
+    pub(crate) fn blocked(&self, ray: &RayPacket, simple: u32, centres: &Centres) -> u32 {
         let mut blocked = 0;
-        for shape in &self.shapes {
-            // Only the lanes not yet blocked need an answer.
-            blocked |= shape
-                .closest(ray, simple & !blocked)
-                .simd_lt(Lane::splat(f32::INFINITY))
-                .to_bitmask();
+        // Only the lanes not yet blocked need an answer.
+        let hits = |i: u32, active: u32| {
+            let t = self.shapes[i as usize].closest(ray, active, centres);
+            t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask() & active
+        };
+        for &i in &self.loose {
+            blocked |= hits(i, simple & !blocked);
             if blocked & simple == simple {
-                break;
+                return simple;
+            }
+        }
+        for (g, members) in self.orbits.groups() {
+            let near = self.orbits.near(g, ray, centres, simple & !blocked);
+            if near == 0 {
+                continue;
+            }
+            for &i in members {
+                blocked |= hits(i, near & !blocked);
+            }
+            if blocked & simple == simple {
+                return simple;
             }
         }
         blocked & simple
@@ -630,6 +752,28 @@ mod tests {
         }
     }
 
+    /// Makes a sphere orbit: its layer becomes a group spinning by one of three spins (a
+    /// packet form takes at most [`super::super::orbits::MAX_SPINS`]), the thesis's rates
+    /// among them, unscaled or scaled uniformly, over the ball's own turned offset.
+    fn orbiting(d: &mut Draw, ball: &mut Instance) {
+        let group = &mut ball.motion.layers[0];
+        group.angular_velocity = [
+            Vec3::new(0.0, 77.0, 0.0),
+            Vec3::new(0.0, 0.0, -113.0),
+            Vec3::new(0.3, -190.0, 0.2),
+        ][d.pick(3) as usize];
+        group.scale = match d.pick(2) {
+            0 => Vec3::ONE,
+            _ => Vec3::splat(d.range(0.5, 2.0)),
+        };
+        let own = MotionLayer {
+            location: d.vec(1.5),
+            rotation: Quat::from_axis_angle(Vec3::from(d.dir()), d.range(0.0, 3.0)),
+            ..MotionLayer::default()
+        };
+        ball.motion.layers.push(own);
+    }
+
     /// Spheres and planes (infinite and rectangles), some touching exactly, some copies of
     /// another (equal t: ties), some moving, some turned.
     fn random_world(d: &mut Draw, offset: Vec3) -> World {
@@ -641,7 +785,11 @@ mod tests {
                     let radius = [0.5, 1.0, 2.5, d.range(0.01, 3.0)][d.pick(4) as usize];
                     let at = d.vec(5.0);
                     let l = layer(d, at);
-                    instance(Shape::Sphere(Sphere { radius }), l, m)
+                    let mut ball = instance(Shape::Sphere(Sphere { radius }), l, m);
+                    if d.pick(3) == 0 {
+                        orbiting(d, &mut ball);
+                    }
+                    ball
                 }
                 2 => {
                     // A sphere resting exactly on the plane y = 0 (and the plane).
@@ -747,7 +895,7 @@ mod tests {
 
     #[test]
     fn packets_match_the_scalar_world_bit_for_bit() {
-        let (mut rays_traced, mut hits, mut blocked) = (0, 0, 0);
+        let (mut rays_traced, mut hits, mut blocked, mut orbits) = (0, 0, 0, 0);
         for w in 0..300u64 {
             let mut d = Draw(HashRng::new(0x9ac7e7, &[w]));
             // Every fourth world far from the origin (coordinates in the thousands).
@@ -792,6 +940,9 @@ mod tests {
                     );
                     rays_traced += 1;
                     hits += usize::from(want.is_some());
+                    orbits += usize::from(want.is_some_and(|h| {
+                        world.instances()[h.instance as usize].motion.layers.len() == 2
+                    }));
                     blocked += usize::from(occ[i]);
                 }
             }
@@ -799,8 +950,13 @@ mod tests {
         // The draws must exercise both outcomes.
         assert!(rays_traced > 30_000 && hits > rays_traced / 4 && blocked > hits / 2);
         assert!(hits < rays_traced * 9 / 10);
+        assert!(
+            orbits > hits / 20,
+            "{orbits} of {hits} hits on orbiting spheres"
+        );
     }
 
+    /// Spinning instances have a small form only as spheres scaled uniformly under one spin.
     #[test]
     fn meshes_and_spinning_instances_have_no_small_form() {
         let spin = MotionLayer {
@@ -808,7 +964,33 @@ mod tests {
             ..MotionLayer::default()
         };
         let sphere = Shape::Sphere(Sphere { radius: 1.0 });
-        let world = World::build(vec![instance(sphere.clone(), spin, 0)], (0.0, 1.0));
+        let small = |layers: Vec<MotionLayer>| {
+            let ball = Instance {
+                shape: sphere.clone(),
+                motion: Motion { layers },
+                material: 0,
+            };
+            World::build(vec![ball], (0.0, 1.0)).small().is_some()
+        };
+        let uneven = MotionLayer {
+            scale: Vec3::new(1.0, 2.0, 1.0),
+            ..spin
+        };
+        let cube = Shape::Mesh(std::sync::Arc::new(crate::geometry::tessellate::cube(1.0)));
+        assert!(small(vec![spin]));
+        assert!(small(vec![MotionLayer {
+            scale: Vec3::splat(2.0),
+            ..spin
+        }]));
+        assert!(!small(vec![uneven]), "an ellipsoid");
+        assert!(!small(vec![
+            spin,
+            MotionLayer {
+                angular_velocity: Vec3::X,
+                ..spin
+            }
+        ]));
+        let world = World::build(vec![instance(cube, spin, 0)], (0.0, 1.0));
         assert!(world.small().is_none());
         let many = vec![instance(sphere, MotionLayer::default(), 0); MAX_INSTANCES + 1];
         assert!(World::build(many.clone(), (0.0, 1.0)).small().is_none());

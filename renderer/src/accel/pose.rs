@@ -6,11 +6,18 @@
 //! ray), spinning (per ray, one rotation per spinning layer and the inverse written down:
 //! [`SpinChain`]). A zero-velocity instance is fixed, so it takes exactly the code path of an
 //! instance without motion.
+//!
+//! A sphere whose chain scales uniformly is the same sphere however it is turned: its pose is
+//! only its centre ([`PoseOverTime::centred`]; the world gives it its world radius), so rays
+//! meet it in world space, moved by the centre alone ([`Pose::centred`]: no matrix), and a
+//! spinning one needs only the chain's translation ([`SpinChain::centre`], no inverse), with
+//! the rotation of each spin shared by every instance it turns ([`Spins`], [`PoseCache`]).
 
-use super::chain::SpinChain;
+use super::chain::{Spin, SpinChain};
 use crate::geometry::Ray;
 use crate::motion::Motion;
 use glam::{Affine3A, Mat3A, Vec3A};
+use std::cell::Cell;
 
 /// World-from-object as `p + L x`, kept as `p` and `L^-1`: a ray becomes
 /// `(L^-1 (o - p), L^-1 d)`, with the same parameter t in both spaces.
@@ -30,6 +37,17 @@ impl Pose {
             translation,
             object_from_world,
             unturned: object_from_world == Mat3A::IDENTITY,
+        }
+    }
+
+    /// A pose that only places: rays move by `-centre` alone (a sphere's,
+    /// [`PoseOverTime::centred`]).
+    #[inline]
+    pub fn centred(centre: Vec3A) -> Self {
+        Self {
+            translation: centre,
+            object_from_world: Mat3A::IDENTITY,
+            unturned: true,
         }
     }
 
@@ -74,6 +92,45 @@ pub enum PoseOverTime {
     },
     /// Boxed: the chain is larger than the other variants, and the poses are read per ray.
     Spinning(Box<SpinChain>),
+    /// A sphere's spinning chain in centre form: the pose is [`Pose::centred`] at
+    /// [`SpinChain::centre`] ([`PoseOverTime::centred`]).
+    Orbiting(Box<Orbit>),
+}
+
+/// A spinning sphere's chain, and the world's index ([`Spins`]) of each of its spins, under
+/// which a [`PoseCache`] keeps the spin's rotation for every instance it turns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Orbit {
+    pub chain: SpinChain,
+    pub spins: Vec<u32>,
+}
+
+/// The distinct spins of a world's orbiting spheres (a group's spin is every member's).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Spins(Vec<Spin>);
+
+impl Spins {
+    /// The index of `spin`, added if new.
+    fn index(&mut self, spin: &Spin) -> u32 {
+        let at = self.0.iter().position(|s| s == spin).unwrap_or_else(|| {
+            self.0.push(*spin);
+            self.0.len() - 1
+        });
+        at as u32
+    }
+
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Spin `i`.
+    pub fn get(&self, i: u32) -> &Spin {
+        &self.0[i as usize]
+    }
 }
 
 impl PoseOverTime {
@@ -92,6 +149,30 @@ impl PoseOverTime {
         }
     }
 
+    /// The pose of a sphere whose chain scales uniformly (`Motion::uniform_scale`), in centre
+    /// form: its centre only ([`Pose::centred`]), fixed, translating or orbiting as the chain
+    /// moves; the sphere's radius must be scaled by the chain's scale. A sphere is the same
+    /// whatever its orientation, so rays meet it in world space: the same roots as through the
+    /// full inverse to rounding (the bytes of a turned or spinning sphere's image change at
+    /// that level: `docs/geometry.md`, "Spheres from their centre"), for less work. Each spin
+    /// gets its index in `spins`.
+    pub fn centred(motion: &Motion, spins: &mut Spins) -> Self {
+        let at_zero = Pose::centred(motion.world_from_object(0.0).translation);
+        if motion.is_static() {
+            return PoseOverTime::Fixed(at_zero);
+        }
+        match SpinChain::new(motion) {
+            Some(chain) => {
+                let spins = chain.spins().map(|s| spins.index(s)).collect();
+                PoseOverTime::Orbiting(Box::new(Orbit { chain, spins }))
+            }
+            None => PoseOverTime::Translating {
+                at_zero,
+                velocity: motion.linear_velocity(),
+            },
+        }
+    }
+
     /// Always inlined, so fixed and translating poses stay in registers in the traversal's
     /// leaf test (with the chain inlined too, LLVM made this whole function a call returning
     /// the pose through memory, callgrind showed); the spinning case is a call to
@@ -105,6 +186,7 @@ impl PoseOverTime {
                 ..*at_zero
             },
             PoseOverTime::Spinning(chain) => chain.at(t),
+            PoseOverTime::Orbiting(orbit) => Pose::centred(orbit.chain.centre(t, |_, s| s.at(t))),
         }
     }
 
@@ -116,19 +198,39 @@ impl PoseOverTime {
 /// The last pose of each spinning instance and the ray time it was computed for, so that the
 /// rays of one camera sample (its primary, shadow and mirror rays share its time) compute a
 /// spinning pose once: [`SpinChain::at`] (a rotation per spinning layer, a libm `sincosf`
-/// each) was 14% of the thesis's spheres scene (perf, frame 100). A pure function of the
-/// time's bits, so a cached pose is the one computed again, to the bit. One per thread's
+/// each) was 14% of the thesis's spheres scene (perf, frame 100). An orbiting sphere's centre
+/// takes its rotations from the last rotation of each of the world's [`Spins`], so the
+/// spheres of one spinning group share one `sincosf` per time. A pure function of the time's
+/// bits, so a cached pose or rotation is the one computed again, to the bit. One per thread's
 /// piece of work (a [`crate::shading::Tracer`]); empty, it caches nothing.
 #[derive(Debug, Default)]
 pub struct PoseCache {
-    slots: Vec<std::cell::Cell<Option<(u32, Pose)>>>,
+    slots: Vec<Cell<Option<(u32, Pose)>>>,
+    rotations: Vec<Cell<Option<(u32, Mat3A)>>>,
+}
+
+/// `slot`'s value when it holds time `t`, else `make()`, kept.
+#[inline(always)]
+fn cached<T: Copy>(slot: Option<&Cell<Option<(u32, T)>>>, t: f32, make: impl FnOnce() -> T) -> T {
+    let Some(slot) = slot else {
+        return make();
+    };
+    match slot.get() {
+        Some((bits, v)) if bits == t.to_bits() => v,
+        _ => {
+            let v = make();
+            slot.set(Some((t.to_bits(), v)));
+            v
+        }
+    }
 }
 
 impl PoseCache {
-    /// A cache for a world of `instances` instances.
-    pub fn new(instances: usize) -> Self {
+    /// A cache for a world of `instances` instances and `spins` distinct orbiting spins.
+    pub fn new(instances: usize, spins: usize) -> Self {
         Self {
-            slots: vec![std::cell::Cell::new(None); instances],
+            slots: vec![Cell::new(None); instances],
+            rotations: vec![Cell::new(None); spins],
         }
     }
 
@@ -136,20 +238,21 @@ impl PoseCache {
     /// that very time.
     #[inline(always)]
     pub fn at(&self, instance: u32, pose: &PoseOverTime, t: f32) -> Pose {
-        let PoseOverTime::Spinning(chain) = pose else {
-            return pose.at(t);
-        };
-        let Some(slot) = self.slots.get(instance as usize) else {
-            return chain.at(t);
-        };
-        match slot.get() {
-            Some((bits, p)) if bits == t.to_bits() => p,
-            _ => {
-                let p = chain.at(t);
-                slot.set(Some((t.to_bits(), p)));
-                p
-            }
+        let slot = self.slots.get(instance as usize);
+        match pose {
+            PoseOverTime::Spinning(chain) => cached(slot, t, || chain.at(t)),
+            PoseOverTime::Orbiting(orbit) => cached(slot, t, || {
+                let rotation = |k: usize, s: &Spin| self.rotation(orbit.spins[k], s, t);
+                Pose::centred(orbit.chain.centre(t, rotation))
+            }),
+            _ => pose.at(t),
         }
+    }
+
+    /// `spin.at(t)` for the world's spin `index`, from the cache when it holds that time.
+    #[inline]
+    pub fn rotation(&self, index: u32, spin: &Spin, t: f32) -> Mat3A {
+        cached(self.rotations.get(index as usize), t, || spin.at(t))
     }
 }
 
@@ -197,7 +300,7 @@ mod tests {
             }],
         };
         let poses = [PoseOverTime::new(&spin), PoseOverTime::new(&spin)];
-        let cache = PoseCache::new(1);
+        let cache = PoseCache::new(1, 0);
         // Instance 1 has no slot: computed every time.
         for (i, t) in [
             (0, 0.25f32),

@@ -1,6 +1,6 @@
-//! A packet's camera rays in worlds without a packet form (meshes, spinning instances: the
-//! thesis's scenes), traced one lane at a time down their mirror chains, with the sky at the
-//! end of every chain looked up in lanes.
+//! A packet's camera rays in worlds without a packet form (meshes: the thesis's plane scene;
+//! spinning instances other than orbiting spheres), traced one lane at a time down their mirror
+//! chains, with the sky at the end of every chain looked up in lanes.
 //!
 //! [`Tracer::radiance`] recurses: a reflective hit's radiance is `local + weight * L(bounce)`,
 //! and most chains end in the sky (a floor or a chrome sphere reflects the sky more often than

@@ -48,7 +48,7 @@ impl<'a> Tracer<'a> {
             scene,
             max_depth,
             rays: Cell::new(0),
-            poses: PoseCache::new(world.instances().len()),
+            poses: world.pose_cache(),
         }
     }
 

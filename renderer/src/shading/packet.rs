@@ -10,15 +10,22 @@
 //! [`lit_by`](super::lit_by), [`SurfaceHit::spawn_point`], [`Light::sample`]) in the scalar
 //! order, the sums add the same terms in the same order (ambient, then each light in scene
 //! order, then the reflection: [`Tracer::local`]), and the ray count grows by the same rays.
-//! What the lanes do not do, a lane hands to the scalar code: a ray the packet form cannot
-//! trace (see [`crate::accel::packet`]) is traced by [`Tracer::radiance`], a shadow ray by
-//! [`World::occluded`](crate::accel::World::occluded), a mirror reflection by
-//! [`Tracer::reflection`], and the Phong lobe's `powf` per lane. The lanes that miss look up
-//! the environment together ([`crate::environment::Environment::radiance_lanes`]).
+//! Mirror reflections stay in lanes too: each reflective lane's mirror ray and Fresnel weight
+//! are the scalar [`bounce`]'s, and the packet's mirror rays are traced as a packet one bounce
+//! deeper, recursively to `max_depth` (`Tracer::packet_at`), each lane adding `weight * L`
+//! last, as [`Tracer::shade`] does. What the lanes do not do, a lane hands to the scalar code:
+//! a ray the packet form cannot trace (see [`crate::accel::packet`]) is traced by
+//! [`Tracer::radiance`], a shadow ray by [`World::occluded`](crate::accel::World::occluded), and
+//! the Phong lobe's and the Fresnel curve's `powf` per lane. The lanes that miss look up the
+//! environment together ([`crate::environment::Environment::radiance_lanes`]). The orbiting
+//! spheres' centres are worked out once per camera packet ([`SmallWorld::centres`]) and shared
+//! by its shadow and mirror rays, which keep its times.
 
-use super::{Surface, Tracer, phong};
+use super::{Surface, Tracer, bounce, phong};
 use crate::accel::SurfaceHit;
-use crate::accel::packet::{LANES, Lane, Nearest, RayPacket, SmallWorld, dot, lane_mask, point_at};
+use crate::accel::packet::{
+    Centres, LANES, Lane, Nearest, RayPacket, SmallWorld, dot, lane_mask, point_at,
+};
 use crate::light::Light;
 use crate::material::Material;
 use glam::{Vec3, Vec3A};
@@ -31,19 +38,37 @@ impl Tracer<'_> {
     /// lanes (the others' values are not to be read; they cast nothing). `small` must be the
     /// world's packet form.
     pub fn radiance_packet(&self, small: &SmallWorld, ray: &RayPacket, live: u32) -> V3 {
+        // The orbiting spheres' centres at the lanes' times, for every ray of the packet.
+        let centres = small.centres(ray.time);
+        self.packet_at(small, &centres, ray, live, 0)
+    }
+
+    /// [`Tracer::radiance`]`(ray lane i, depth)` for the lanes of `live`, in lanes; `centres`
+    /// at the lanes' times (a mirror ray keeps its camera ray's time).
+    fn packet_at(
+        &self,
+        small: &SmallWorld,
+        centres: &Centres,
+        ray: &RayPacket,
+        live: u32,
+        depth: u32,
+    ) -> V3 {
         let simple = SmallWorld::simple_packet(self.world, ray, live);
-        let nearest = small.nearest(ray, simple);
+        let nearest = small.nearest(ray, simple, centres);
         // A tie between instances is the scalar path's to break.
         let packet = simple & !nearest.tie.to_bitmask();
         self.count(packet);
         let hit = packet & nearest.hit();
         let mut out = match hit {
             0 => [Lane::ZERO; 3],
-            _ => self.shade_packet(small, ray, &nearest, hit),
+            _ => {
+                let h = Hits::new(self, small, centres, ray, &nearest, hit);
+                self.shade_packet(small, centres, ray, &h, depth)
+            }
         };
         self.background_lanes(ray, packet & !hit, &mut out);
         for i in lanes(live & !packet) {
-            set(&mut out, i, self.radiance(&ray.lane(i), 0));
+            set(&mut out, i, self.radiance(&ray.lane(i), depth));
         }
         out
     }
@@ -61,10 +86,17 @@ impl Tracer<'_> {
         *out = std::array::from_fn(|k| m.bitselect(sky[k], out[k]));
     }
 
-    /// [`Tracer::shade`] at depth 0 for the lanes of `hit` (zero in the others).
-    fn shade_packet(&self, small: &SmallWorld, ray: &RayPacket, nearest: &Nearest, hit: u32) -> V3 {
-        let h = Hits::new(self, small, ray, nearest, hit);
-        let direct = self.direct_packet(small, ray, &h);
+    /// [`Tracer::shade`] at `depth` for the lanes of `h` (zero in the others).
+    fn shade_packet(
+        &self,
+        small: &SmallWorld,
+        centres: &Centres,
+        ray: &RayPacket,
+        h: &Hits,
+        depth: u32,
+    ) -> V3 {
+        let hit = h.lanes;
+        let direct = self.direct_packet(small, centres, ray, h);
         // [`Tracer::local`]: the ambient term, then the direct light for a lit material.
         let (lit, hit_lanes) = (lane_mask(h.m.lit), lane_mask(hit));
         let a = self.scene.settings.ambient_light.to_array();
@@ -72,20 +104,67 @@ impl Tracer<'_> {
             let ambient = h.m.ambient[k] * Lane::splat(a[k]);
             hit_lanes.bitselect(lit.bitselect(ambient + direct[k], ambient), Lane::ZERO)
         });
-        // Then the mirror reflection, lane by lane.
-        for i in lanes(hit & h.m.reflective) {
-            let ray = ray.lane(i);
-            let hit = h.hit(small, nearest, i);
-            let s = Surface::new(self.scene, &ray, &hit);
-            let sum = lane::<Vec3>(&l, i) + self.reflection(&ray, &s, 0);
-            set(&mut l, i, sum);
+        // Then the mirror reflection ([`Tracer::reflects`]), its rays traced as a packet.
+        let reflect = match depth < self.max_depth {
+            true => hit & h.m.reflective,
+            false => 0,
+        };
+        if reflect != 0 {
+            self.reflect_packet(small, centres, ray, h, reflect, depth, &mut l);
         }
         l
     }
 
+    /// `l += `[`Tracer::reflection`] for the lanes of `reflect`: each lane's mirror ray and
+    /// Fresnel weight are the scalar [`bounce`]'s, the rays are traced together one bounce
+    /// deeper ([`Tracer::packet_at`], recursively), and each lane adds `weight * L(bounce)`
+    /// (`0` for a material without a Fresnel curve), as the recursion does.
+    #[allow(clippy::too_many_arguments)]
+    fn reflect_packet(
+        &self,
+        small: &SmallWorld,
+        centres: &Centres,
+        ray: &RayPacket,
+        h: &Hits,
+        reflect: u32,
+        depth: u32,
+        l: &mut V3,
+    ) {
+        // Lanes outside `live` keep the incoming rays (never read).
+        let mut mirror = *ray;
+        let mut weight = [Lane::ZERO; 3];
+        let mut live = 0;
+        for i in lanes(reflect) {
+            let r = ray.lane(i);
+            let hit = h.hit(small, i);
+            if let Some((b, w)) = bounce(&r, &Surface::new(self.scene, &r, &hit)) {
+                set(&mut mirror.origin, i, b.origin.into());
+                set(&mut mirror.dir, i, b.dir.into());
+                mirror.t_max.as_mut_array()[i] = b.t_max;
+                set(&mut weight, i, w);
+                live |= 1 << i;
+            }
+        }
+        let x = match live {
+            0 => [Lane::ZERO; 3],
+            _ => self.packet_at(small, centres, &mirror, live, depth + 1),
+        };
+        let (on, add) = (lane_mask(live), lane_mask(reflect));
+        *l = std::array::from_fn(|k| {
+            let reflection = on.bitselect(weight[k] * x[k], Lane::ZERO);
+            add.bitselect(l[k] + reflection, l[k])
+        });
+    }
+
     /// [`Tracer::direct`] for the lit lanes of `h`: per light, the lanes' shadow rays are
     /// made and tested together.
-    fn direct_packet(&self, small: &SmallWorld, ray: &RayPacket, h: &Hits) -> V3 {
+    fn direct_packet(
+        &self,
+        small: &SmallWorld,
+        centres: &Centres,
+        ray: &RayPacket,
+        h: &Hits,
+    ) -> V3 {
         let mut sum = [Lane::ZERO; 3];
         let lit = h.lanes & h.m.lit;
         if lit == 0 {
@@ -102,7 +181,7 @@ impl Tracer<'_> {
             }
             self.count(live);
             let shadow = s.shadow_ray(ray, h);
-            let open = live & !self.blocked(small, &shadow, live);
+            let open = live & !self.blocked(small, centres, &shadow, live);
             if open == 0 {
                 continue;
             }
@@ -115,11 +194,11 @@ impl Tracer<'_> {
 
     /// [`World::occluded`](crate::accel::World::occluded) for the lanes of `live`: the lanes
     /// blocked.
-    fn blocked(&self, small: &SmallWorld, shadow: &RayPacket, live: u32) -> u32 {
+    fn blocked(&self, small: &SmallWorld, centres: &Centres, shadow: &RayPacket, live: u32) -> u32 {
         let simple = SmallWorld::simple_packet(self.world, shadow, live);
         let mut blocked = match simple {
             0 => 0,
-            _ => small.blocked(shadow, simple),
+            _ => small.blocked(shadow, simple, centres),
         };
         for i in lanes(live & !simple) {
             blocked |= u32::from(self.world.occluded_cached(&shadow.lane(i), &self.poses)) << i;
@@ -138,6 +217,8 @@ impl Tracer<'_> {
 struct Hits {
     /// The lanes shaded here (bit `i` for lane `i`).
     lanes: u32,
+    /// The instance each lane hit.
+    instance: Lane,
     t: Lane,
     point: V3,
     /// The normal as the instance faces ([`SurfaceHit`]'s geometric and shading normal).
@@ -156,6 +237,7 @@ impl Hits {
     fn new(
         tracer: &Tracer,
         small: &SmallWorld,
+        centres: &Centres,
         ray: &RayPacket,
         nearest: &Nearest,
         lanes: u32,
@@ -169,7 +251,7 @@ impl Hits {
             if !on.any() {
                 continue;
             }
-            normal = select(on, &small.normal(i, ray, nearest.t), &normal);
+            normal = select(on, &small.normal(i, ray, nearest.t, centres), &normal);
             let material = &tracer.scene.materials[material as usize];
             m.add(on, material, tracer.max_depth > 0);
         }
@@ -177,6 +259,7 @@ impl Hits {
         let (ng, ns) = facing_normals(&normal, &v);
         Self {
             lanes,
+            instance: nearest.instance,
             t: nearest.t,
             point,
             normal,
@@ -188,8 +271,8 @@ impl Hits {
     }
 
     /// Lane `i`'s hit as [`World::intersect`](crate::accel::World::intersect) gives it.
-    fn hit(&self, small: &SmallWorld, nearest: &Nearest, i: usize) -> SurfaceHit {
-        let instance = nearest.instance.as_array()[i] as u32;
+    fn hit(&self, small: &SmallWorld, i: usize) -> SurfaceHit {
+        let instance = self.instance.as_array()[i] as u32;
         let normal: Vec3A = lane(&self.normal, i);
         SurfaceHit {
             t: self.t.as_array()[i],

@@ -1,0 +1,257 @@
+//! Orbiting spheres in lanes: their centres at a packet's eight times, and one bound per
+//! spinning group that tells the lanes passing far from all its spheres.
+//!
+//! Centres ([`Orbits::centres`], each when first asked for): each spin's rotation per lane by
+//! [`Spin::at`] (libm's `sincosf`: the scalar path's own call, once per spin, lane and packet
+//! that needs it), then
+//! [`SpinChain::centre`]'s operations in lanes, in its order ([`Orbiter::centre`]), so a lane's
+//! centre is the scalar path's to the bit. A packet's shadow and mirror rays carry its camera
+//! rays' times, so they share them.
+//!
+//! Groups ([`Group`]): the spheres under one spin with the same chain above it (a carousel, a
+//! wheel) stay within `B` of the group's head `p_0 + u_0 t` (`B` the largest `s |p_1| + R`
+//! of its members, `s` the scale of `L_0 = s Q`, a sphere's own offset `p_1` still). A lane
+//! whose ray passes farther than `B` from the head, or leaves it from outside, cannot hit any
+//! of them, so brute force skips the whole group for a packet none of whose lanes pass near.
+//! The test rounds: it culls a lane only when the computed squared distance exceeds
+//! `B^2 (1 + 2^-10)^2` by `64u |o - h|^2` (each of `|o - h|^2`, `(o - h)·d` and `d·d` rounds by
+//! a few `u`, and the squared distance they give is off by at most `8u |o - h|^2`); a lane
+//! culled passes the spheres by at least `2^-10 B` plus the slack, far more than the sphere
+//! test's own rounding, so the sphere test would have missed too: the same answers, bit for
+//! bit (`accel::packet`'s tests).
+//!
+//! [`SpinChain::centre`]: super::chain::SpinChain::centre
+
+use super::chain::{OneSpin, Spin};
+use super::packet::{LANES, Lane, RayPacket, SLACK, dot, mul};
+use super::pose::Orbit;
+use glam::{Mat3A, Vec3A};
+use std::cell::Cell;
+
+/// Spinning groups culled together; the spheres of further groups are tested one by one.
+pub(crate) const MAX_GROUPS: usize = 4;
+
+/// Distinct spins a packet form's orbiting spheres may turn by (a world with more has none):
+/// each packet works out each spin's rotation per lane.
+pub(crate) const MAX_SPINS: usize = 4;
+
+/// At most this many orbiting spheres in a packet form (as many as it has instances).
+pub(crate) const MAX_ORBITS: usize = super::packet::MAX_INSTANCES;
+
+/// An orbiting sphere's chain of one spin, and the index of its spin.
+#[derive(Clone, Copy, Debug)]
+struct Orbiter {
+    spin: u32,
+    chain: OneSpin,
+}
+
+impl Orbiter {
+    /// [`SpinChain::centre`](super::chain::SpinChain::centre) in lanes, with the spin's
+    /// rotation per lane `r` (columns): `(p_0 + u_0 t) + L_0 (R (p_1 + u_1 t))`.
+    #[inline(always)]
+    fn centre(&self, r: &[[Lane; 3]; 3], t: Lane) -> [Lane; 3] {
+        let c = &self.chain;
+        let inner = moving(c.inner_offset, c.inner_velocity, t);
+        let turned: [Lane; 3] =
+            std::array::from_fn(|k| r[0][k] * inner[0] + r[1][k] * inner[1] + r[2][k] * inner[2]);
+        let out = match c.forward == Mat3A::IDENTITY {
+            true => turned,
+            false => mul(&c.forward, turned),
+        };
+        let head = moving(c.offset, c.velocity, t);
+        std::array::from_fn(|k| head[k] + out[k])
+    }
+}
+
+/// [`moving`](super::chain::moving) in lanes: `p + v t` (glam's `p + v * t`), `p` for a still
+/// `v`.
+#[inline(always)]
+fn moving(p: Vec3A, v: Vec3A, t: Lane) -> [Lane; 3] {
+    let p = p.to_array();
+    if v == Vec3A::ZERO {
+        return p.map(Lane::splat);
+    }
+    let v = v.to_array();
+    std::array::from_fn(|k| Lane::splat(p[k]) + Lane::splat(v[k]) * t)
+}
+
+/// Each lane's rotation `spin.at(t_i)`, as columns in lanes.
+#[inline]
+fn rotations(spin: &Spin, t: &[f32; LANES]) -> [[Lane; 3]; 3] {
+    let r: [[f32; 9]; LANES] = std::array::from_fn(|i| spin.at(t[i]).to_cols_array());
+    std::array::from_fn(|c| {
+        std::array::from_fn(|k| Lane::new(std::array::from_fn(|i| r[i][3 * c + k])))
+    })
+}
+
+/// Orbiting spheres under one spin and one chain above it.
+#[derive(Clone, Debug)]
+struct Group {
+    /// The orbit every member shares above its own offset (its spin, `p_0`, `u_0`, `L_0`).
+    head: OneSpin,
+    /// `(B (1 + 2^-10))^2`.
+    bound2: f32,
+    /// The members' instance indices.
+    members: Vec<u32>,
+}
+
+/// The orbiting spheres of a packet form.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Orbits {
+    orbiters: Vec<Orbiter>,
+    /// The world's distinct spins ([`Orbiter::spin`] indexes them).
+    spins: Vec<Spin>,
+    groups: Vec<Group>,
+}
+
+/// The orbiting spheres' centres at a packet's eight times ([`Orbits::centres`]), each worked
+/// out when first asked for (with its spin's rotation per lane, also kept), so a packet none of
+/// whose rays passes near a group pays neither its `sincosf`s nor its centres; and the groups'
+/// heads. One per camera packet, shared by its shadow and mirror rays.
+pub(crate) struct Centres<'a> {
+    orbits: &'a Orbits,
+    time: Lane,
+    heads: [[Lane; 3]; MAX_GROUPS],
+    centres: [Cell<[Lane; 3]>; MAX_ORBITS],
+    rotations: [Cell<[[Lane; 3]; 3]>; MAX_SPINS],
+    /// Bit `k`: `centres[k]` is worked out.
+    placed: Cell<u32>,
+    /// Bit `s`: `rotations[s]` is worked out.
+    turned: Cell<u32>,
+}
+
+impl Centres<'_> {
+    /// Orbit `k`'s centre per lane.
+    #[inline(always)]
+    pub(crate) fn of(&self, k: usize) -> [Lane; 3] {
+        if self.placed.get() & (1 << k) == 0 {
+            self.place(k);
+        }
+        self.centres[k].get()
+    }
+
+    #[inline(never)]
+    fn place(&self, k: usize) {
+        let o = &self.orbits.orbiters[k];
+        let s = o.spin as usize;
+        if self.turned.get() & (1 << s) == 0 {
+            let t = self.time.to_array();
+            self.rotations[s].set(rotations(&self.orbits.spins[s], &t));
+            self.turned.set(self.turned.get() | 1 << s);
+        }
+        self.centres[k].set(o.centre(&self.rotations[s].get(), self.time));
+        self.placed.set(self.placed.get() | 1 << k);
+    }
+}
+
+impl Orbits {
+    pub(crate) fn new(spins: Vec<Spin>) -> Self {
+        Self {
+            spins,
+            ..Self::default()
+        }
+    }
+
+    /// Adds `orbit` (a sphere's: one spin, else `None`); its index.
+    pub(crate) fn add(&mut self, orbit: &Orbit) -> Option<usize> {
+        let chain = orbit.chain.single()?;
+        if self.orbiters.len() == MAX_ORBITS || orbit.spins[0] as usize >= MAX_SPINS {
+            return None;
+        }
+        self.orbiters.push(Orbiter {
+            spin: orbit.spins[0],
+            chain,
+        });
+        Some(self.orbiters.len() - 1)
+    }
+
+    /// Groups the orbiting spheres `(instance, orbit index, radius)` whose own offset is still
+    /// (at most [`MAX_GROUPS`] groups); returns the instances left out of every group.
+    pub(crate) fn group(&mut self, spheres: &[(u32, usize, f32)]) -> Vec<u32> {
+        let mut loose = Vec::new();
+        for &(instance, k, radius) in spheres {
+            let c = self.orbiters[k].chain;
+            let head = OneSpin {
+                inner_offset: Vec3A::ZERO,
+                inner_velocity: Vec3A::ZERO,
+                ..c
+            };
+            let at = self.groups.iter().position(|g| g.head == head);
+            let at = match at {
+                _ if c.inner_velocity != Vec3A::ZERO => None,
+                Some(g) => Some(g),
+                None if self.groups.len() < MAX_GROUPS => {
+                    self.groups.push(Group {
+                        head,
+                        bound2: 0.0,
+                        members: Vec::new(),
+                    });
+                    Some(self.groups.len() - 1)
+                }
+                None => None,
+            };
+            let Some(g) = at else {
+                loose.push(instance);
+                continue;
+            };
+            // A sphere in centre form scales uniformly, so `L_0 = s Q` and `|L_0 R p_1| =
+            // s |p_1|`, `s` any column's length (the largest: rounding).
+            let f = c.forward;
+            let norm = f
+                .x_axis
+                .length()
+                .max(f.y_axis.length())
+                .max(f.z_axis.length());
+            let reach = (norm * c.inner_offset.length() + radius) * (1.0 + 1.0 / 1024.0);
+            let group = &mut self.groups[g];
+            group.bound2 = group.bound2.max(reach * reach);
+            group.members.push(instance);
+        }
+        loose
+    }
+
+    /// The groups: each one's members (instance indices).
+    pub(crate) fn groups(&self) -> impl Iterator<Item = (usize, &[u32])> {
+        self.groups
+            .iter()
+            .enumerate()
+            .map(|(g, group)| (g, group.members.as_slice()))
+    }
+
+    /// The centres at the times `time` of a packet's lanes (each when first asked for), and
+    /// the groups' heads.
+    #[inline]
+    pub(crate) fn centres(&self, time: Lane) -> Centres<'_> {
+        const ZERO: [Lane; 3] = [Lane::ZERO; 3];
+        Centres {
+            orbits: self,
+            time,
+            heads: std::array::from_fn(|g| match self.groups.get(g) {
+                Some(group) => moving(group.head.offset, group.head.velocity, time),
+                None => ZERO,
+            }),
+            centres: std::array::from_fn(|_| Cell::new(ZERO)),
+            rotations: std::array::from_fn(|_| Cell::new([ZERO; 3])),
+            placed: Cell::new(0),
+            turned: Cell::new(0),
+        }
+    }
+
+    /// The lanes of `active` whose ray may pass near group `g`'s spheres (see the module
+    /// notes); the others surely miss them all.
+    #[inline(always)]
+    pub(crate) fn near(&self, g: usize, ray: &RayPacket, centres: &Centres, active: u32) -> u32 {
+        if active == 0 {
+            return 0;
+        }
+        let head = &centres.heads[g];
+        let oc: [Lane; 3] = std::array::from_fn(|k| ray.origin[k] - head[k]);
+        let cc = dot(&oc, &oc);
+        let hb = dot(&oc, &ray.dir);
+        let a = dot(&ray.dir, &ray.dir);
+        let limit = Lane::splat(self.groups[g].bound2) + Lane::splat(SLACK) * cc;
+        let past = (cc - hb * (hb / a)).simd_gt(limit);
+        let away = hb.simd_gt(Lane::ZERO) & cc.simd_gt(limit);
+        active & !(past | away).to_bitmask()
+    }
+}
