@@ -16,12 +16,13 @@
 //! last, as [`Tracer::shade`] does. What the lanes do not do, a lane hands to the scalar code:
 //! a ray the packet form cannot trace (see [`crate::accel::packet`]) is traced by
 //! [`Tracer::radiance`], a shadow ray by [`World::occluded`](crate::accel::World::occluded), and
-//! the Phong lobe's and the Fresnel curve's `powf` per lane. The lanes that miss look up the
+//! the Fresnel curve's `powf` per lane (the Phong lobe is in lanes: [`phong_lanes`], the
+//! scalar lobe's own code). The lanes that miss look up the
 //! environment together ([`crate::environment::Environment::radiance_lanes`]). The orbiting
 //! spheres' centres are worked out once per camera packet ([`SmallWorld::centres`]) and shared
 //! by its shadow and mirror rays, which keep its times.
 
-use super::{Surface, Tracer, bounce, phong};
+use super::{Surface, Tracer, bounce, phong_lanes};
 use crate::accel::SurfaceHit;
 use crate::accel::packet::{
     Centres, LANES, Lane, Nearest, RayPacket, SmallWorld, dot, lane_mask, point_at,
@@ -299,21 +300,13 @@ impl Hits {
 
     /// `m.specular * phong(reflect(-l, ns) · v, p)` for the lanes of `phong`, zero for the
     /// others (as [`lit_by`](super::lit_by) skips it for a material without specular).
-    fn specular(&self, towards: &V3, phong_lanes: u32) -> V3 {
+    fn specular(&self, towards: &V3, lanes_on: u32) -> V3 {
         // [`reflect`](super::reflect)`(-l, ns)`: `d - n (2 (d · n))`.
         let d = towards.map(|c| -c);
         let twice = Lane::splat(2.0) * dot(&d, &self.ns);
         let r: V3 = std::array::from_fn(|k| d[k] - self.ns[k] * twice);
-        let r_dot_v = dot(&r, &self.v).to_array();
-        let exponent = self.m.exponent.to_array();
-        let lobe = Lane::new(std::array::from_fn(|i| {
-            if phong_lanes & (1 << i) != 0 {
-                phong(r_dot_v[i], exponent[i])
-            } else {
-                0.0
-            }
-        }));
-        let on = lane_mask(phong_lanes);
+        let lobe = phong_lanes(dot(&r, &self.v), self.m.exponent);
+        let on = lane_mask(lanes_on);
         self.m.specular.map(|c| on.bitselect(c * lobe, Lane::ZERO))
     }
 }
