@@ -21,7 +21,7 @@ use crate::accel::pose::PoseCache;
 use crate::accel::{SurfaceHit, World};
 use crate::geometry::Ray;
 use crate::light::{Light, LightSample};
-use crate::material::Material;
+use crate::material::{Fresnel, Material};
 use crate::math;
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
@@ -132,6 +132,14 @@ impl<'a> Tracer<'a> {
 /// curve (its reflection is zero).
 #[inline]
 fn bounce(ray: &Ray, s: &Surface) -> Option<(Ray, Vec3)> {
+    let (mirror, fresnel, cos) = mirror(ray, s)?;
+    Some((mirror, fresnel.reflectance(cos) * s.m.specular))
+}
+
+/// [`bounce`] before its weight: the mirror ray, the Fresnel curve and the cosine to read it
+/// at (`shading::packet` reads the curves of its lanes together).
+#[inline]
+fn mirror(ray: &Ray, s: &Surface) -> Option<(Ray, Fresnel, f32)> {
     let fresnel = s.m.fresnel?;
     let mut dir = reflect(ray.dir, s.ns);
     // An interpolated normal can send the mirror ray into the surface; mirror about the
@@ -139,8 +147,12 @@ fn bounce(ray: &Ray, s: &Surface) -> Option<(Ray, Vec3)> {
     if dir.dot(s.ng) <= 0.0 {
         dir = reflect(ray.dir, s.ng);
     }
-    let weight = fresnel.reflectance(s.ns.dot(s.v)) * s.m.specular;
-    Some((Ray::new(s.hit.spawn_point(dir), dir, ray.time), weight))
+    let cos = s.ns.dot(s.v);
+    Some((
+        Ray::new(s.hit.spawn_point(dir), dir, ray.time),
+        fresnel,
+        cos,
+    ))
 }
 
 /// A hit ready to shade: its material, its normals turned towards the viewer, and the
