@@ -1,9 +1,7 @@
 //! Whitted materials (thesis Figure 13): ambient, Lambert diffuse and Phong specular colours,
 //! and a Fresnel-weighted mirror reflection.
 
-use crate::math;
 use glam::Vec3;
-use wide::f32x8;
 
 /// Reflectance of a mirror reflection against the angle θ between the view ray and the
 /// normal: `min + (max - min)(1 - cos θ)^exponent` (the Schlick-style curve of the thesis's
@@ -16,34 +14,11 @@ pub struct Fresnel {
 }
 
 impl Fresnel {
-    /// Reflectance for `cos_theta` (clamped to [0, 1], so grazing and back-facing rays get
-    /// `max`): [`FresnelLanes::reflectance`] on a splat, so that the scalar path and the
-    /// packets' mirror bounces give the same bits.
+    /// Reflectance for `cos_theta` (clamped to [0, 1], so grazing and back-facing rays get `max`).
     #[inline]
     pub fn reflectance(&self, cos_theta: f32) -> f32 {
-        let lanes = FresnelLanes {
-            min: f32x8::splat(self.min),
-            max: f32x8::splat(self.max),
-            exponent: f32x8::splat(self.exponent),
-        };
-        lanes.reflectance(f32x8::splat(cos_theta)).as_array()[0]
-    }
-}
-
-/// Eight lanes' Fresnel curves (`shading::packet`'s mirror bounces).
-pub struct FresnelLanes {
-    pub min: f32x8,
-    pub max: f32x8,
-    pub exponent: f32x8,
-}
-
-impl FresnelLanes {
-    /// [`Fresnel::reflectance`] of eight lanes, the power by [`math::pow_lanes`] (libm's `powf`
-    /// per reflective lane was 2.2% of the spheres scene's instructions, callgrind at 1b640ec).
-    #[inline]
-    pub fn reflectance(&self, cos_theta: f32x8) -> f32x8 {
-        let c = cos_theta.max(f32x8::ZERO).min(f32x8::ONE);
-        self.min + (self.max - self.min) * math::pow_lanes(f32x8::ONE - c, self.exponent)
+        let c = cos_theta.clamp(0.0, 1.0);
+        self.min + (self.max - self.min) * (1.0 - c).powf(self.exponent)
     }
 }
 

@@ -17,12 +17,10 @@
 
 mod inverse_trig;
 mod log;
-mod pow;
 mod sin_cos;
 
 pub use inverse_trig::{acos, acos_lanes, atan2, atan2_lanes};
 pub use log::{ln, ln_lanes};
-pub use pow::{pow, pow_lanes};
 pub use sin_cos::{sin_cos, sin_cos_lanes};
 
 #[cfg(test)]

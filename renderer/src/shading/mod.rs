@@ -16,13 +16,11 @@
 mod chains;
 mod packet;
 
-use crate::accel::packet::Lane;
 use crate::accel::pose::PoseCache;
 use crate::accel::{SurfaceHit, World};
 use crate::geometry::Ray;
 use crate::light::{Light, LightSample};
-use crate::material::{Fresnel, Material};
-use crate::math;
+use crate::material::Material;
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
 use std::cell::Cell;
@@ -132,14 +130,6 @@ impl<'a> Tracer<'a> {
 /// curve (its reflection is zero).
 #[inline]
 fn bounce(ray: &Ray, s: &Surface) -> Option<(Ray, Vec3)> {
-    let (mirror, fresnel, cos) = mirror(ray, s)?;
-    Some((mirror, fresnel.reflectance(cos) * s.m.specular))
-}
-
-/// [`bounce`] before its weight: the mirror ray, the Fresnel curve and the cosine to read it
-/// at (`shading::packet` reads the curves of its lanes together).
-#[inline]
-fn mirror(ray: &Ray, s: &Surface) -> Option<(Ray, Fresnel, f32)> {
     let fresnel = s.m.fresnel?;
     let mut dir = reflect(ray.dir, s.ns);
     // An interpolated normal can send the mirror ray into the surface; mirror about the
@@ -147,12 +137,8 @@ fn mirror(ray: &Ray, s: &Surface) -> Option<(Ray, Fresnel, f32)> {
     if dir.dot(s.ng) <= 0.0 {
         dir = reflect(ray.dir, s.ng);
     }
-    let cos = s.ns.dot(s.v);
-    Some((
-        Ray::new(s.hit.spawn_point(dir), dir, ray.time),
-        fresnel,
-        cos,
-    ))
+    let weight = fresnel.reflectance(s.ns.dot(s.v)) * s.m.specular;
+    Some((Ray::new(s.hit.spawn_point(dir), dir, ray.time), weight))
 }
 
 /// A hit ready to shade: its material, its normals turned towards the viewer, and the
@@ -243,18 +229,10 @@ fn facing_normals(hit: &SurfaceHit, v: Vec3A) -> (Vec3A, Vec3A) {
 
 /// The Phong lobe `max(0, r·v)^p`. `r·v` of two unit vectors can round a hair above 1, and
 /// `(1 + 6e-8)^1e9` is infinite: clamped to [0, 1], the lobe stays in [0, 1] for any exponent
-/// (the scene loader also bounds `p`: `scene::build::MAX_PHONG_EXPONENT`). [`phong_lanes`] on
-/// a splat, so that the scalar path and the packets' shading give the same bits.
+/// (the scene loader also bounds `p`: `scene::build::MAX_PHONG_EXPONENT`).
 #[inline]
 fn phong(r_dot_v: f32, exponent: f32) -> f32 {
-    phong_lanes(Lane::splat(r_dot_v), Lane::splat(exponent)).as_array()[0]
-}
-
-/// [`phong`] of eight lanes: the clamp, then [`math::pow_lanes`] (libm's `powf` per lane was
-/// 8% of the spheres scene's frame 100, `perf` at 5f1035d).
-#[inline]
-fn phong_lanes(r_dot_v: Lane, exponent: Lane) -> Lane {
-    math::pow_lanes(r_dot_v.max(Lane::ZERO).min(Lane::ONE), exponent)
+    r_dot_v.clamp(0.0, 1.0).powf(exponent)
 }
 
 /// `d` mirrored about the unit normal `n`.

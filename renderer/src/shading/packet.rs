@@ -11,24 +11,23 @@
 //! order, the sums add the same terms in the same order (ambient, then each light in scene
 //! order, then the reflection: [`Tracer::local`]), and the ray count grows by the same rays.
 //! Mirror reflections stay in lanes too: each reflective lane's mirror ray and Fresnel weight
-//! are the scalar [`bounce`](super::bounce)'s, and the packet's mirror rays are traced as a
-//! packet one bounce deeper, recursively to `max_depth` (`Tracer::packet_at`), each lane adding
-//! `weight * L` last, as [`Tracer::shade`] does. What the lanes do not do, a lane hands to the
-//! scalar code: a ray the packet form cannot trace (see [`crate::accel::packet`]) is traced by
-//! [`Tracer::radiance`], a shadow ray by [`World::occluded`](crate::accel::World::occluded). The
-//! Phong lobe and the Fresnel curve's power are in lanes ([`phong_lanes`], [`FresnelLanes`], the
-//! scalar path's own code on a splat). The lanes that miss look up the
+//! are the scalar [`bounce`]'s, and the packet's mirror rays are traced as a packet one bounce
+//! deeper, recursively to `max_depth` (`Tracer::packet_at`), each lane adding `weight * L`
+//! last, as [`Tracer::shade`] does. What the lanes do not do, a lane hands to the scalar code:
+//! a ray the packet form cannot trace (see [`crate::accel::packet`]) is traced by
+//! [`Tracer::radiance`], a shadow ray by [`World::occluded`](crate::accel::World::occluded), and
+//! the Phong lobe's and the Fresnel curve's `powf` per lane. The lanes that miss look up the
 //! environment together ([`crate::environment::Environment::radiance_lanes`]). The orbiting
 //! spheres' centres are worked out once per camera packet ([`SmallWorld::centres`]) and shared
 //! by its shadow and mirror rays, which keep its times.
 
-use super::{Surface, Tracer, phong_lanes};
+use super::{Surface, Tracer, bounce, phong};
 use crate::accel::SurfaceHit;
 use crate::accel::packet::{
     Centres, LANES, Lane, Nearest, RayPacket, SmallWorld, dot, lane_mask, point_at,
 };
 use crate::light::Light;
-use crate::material::{FresnelLanes, Material};
+use crate::material::Material;
 use glam::{Vec3, Vec3A};
 
 /// A vector per lane.
@@ -117,7 +116,7 @@ impl Tracer<'_> {
     }
 
     /// `l += `[`Tracer::reflection`] for the lanes of `reflect`: each lane's mirror ray and
-    /// Fresnel weight are the scalar [`bounce`](super::bounce)'s, the rays are traced together one bounce
+    /// Fresnel weight are the scalar [`bounce`]'s, the rays are traced together one bounce
     /// deeper ([`Tracer::packet_at`], recursively), and each lane adds `weight * L(bounce)`
     /// (`0` for a material without a Fresnel curve), as the recursion does.
     #[allow(clippy::too_many_arguments)]
@@ -133,26 +132,19 @@ impl Tracer<'_> {
     ) {
         // Lanes outside `live` keep the incoming rays (never read).
         let mut mirror = *ray;
-        let (mut curve, mut cos) = ([[0.0f32; LANES]; 3], [0.0f32; LANES]);
-        let mut specular = [Lane::ZERO; 3];
+        let mut weight = [Lane::ZERO; 3];
         let mut live = 0;
         for i in lanes(reflect) {
             let r = ray.lane(i);
             let hit = h.hit(small, i);
-            let s = Surface::new(self.scene, &r, &hit);
-            if let Some((b, f, c)) = super::mirror(&r, &s) {
+            if let Some((b, w)) = bounce(&r, &Surface::new(self.scene, &r, &hit)) {
                 set(&mut mirror.origin, i, b.origin.into());
                 set(&mut mirror.dir, i, b.dir.into());
                 mirror.t_max.as_mut_array()[i] = b.t_max;
-                [curve[0][i], curve[1][i], curve[2][i], cos[i]] = [f.min, f.max, f.exponent, c];
-                set(&mut specular, i, s.m.specular);
+                set(&mut weight, i, w);
                 live |= 1 << i;
             }
         }
-        // [`bounce`](super::bounce)'s weight, the lanes' curves read together.
-        let [min, max, exponent] = curve.map(Lane::new);
-        let fresnel = FresnelLanes { min, max, exponent }.reflectance(Lane::new(cos));
-        let weight = specular.map(|c| fresnel * c);
         let x = match live {
             0 => [Lane::ZERO; 3],
             _ => self.packet_at(small, centres, &mirror, live, depth + 1),
@@ -307,13 +299,21 @@ impl Hits {
 
     /// `m.specular * phong(reflect(-l, ns) · v, p)` for the lanes of `phong`, zero for the
     /// others (as [`lit_by`](super::lit_by) skips it for a material without specular).
-    fn specular(&self, towards: &V3, lanes_on: u32) -> V3 {
+    fn specular(&self, towards: &V3, phong_lanes: u32) -> V3 {
         // [`reflect`](super::reflect)`(-l, ns)`: `d - n (2 (d · n))`.
         let d = towards.map(|c| -c);
         let twice = Lane::splat(2.0) * dot(&d, &self.ns);
         let r: V3 = std::array::from_fn(|k| d[k] - self.ns[k] * twice);
-        let lobe = phong_lanes(dot(&r, &self.v), self.m.exponent);
-        let on = lane_mask(lanes_on);
+        let r_dot_v = dot(&r, &self.v).to_array();
+        let exponent = self.m.exponent.to_array();
+        let lobe = Lane::new(std::array::from_fn(|i| {
+            if phong_lanes & (1 << i) != 0 {
+                phong(r_dot_v[i], exponent[i])
+            } else {
+                0.0
+            }
+        }));
+        let on = lane_mask(phong_lanes);
         self.m.specular.map(|c| on.bitselect(c * lobe, Lane::ZERO))
     }
 }
