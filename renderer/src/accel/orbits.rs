@@ -2,8 +2,8 @@
 //! spinning group that tells the lanes passing far from all its spheres.
 //!
 //! Centres ([`Orbits::centres`], each when first asked for): each spin's rotation per lane by
-//! [`Spin::at`] (libm's `sincosf`: the scalar path's own call, once per spin, lane and packet
-//! that needs it), then
+//! [`Spin::at_lanes`] (the scalar path's own formula, [`Spin::at`] being it on a splat; once
+//! per spin and packet that needs it), then
 //! [`SpinChain::centre`]'s operations in lanes, in its order ([`Orbiter::centre`]), so a lane's
 //! centre is the scalar path's to the bit. A packet's shadow and mirror rays carry its camera
 //! rays' times, so they share them.
@@ -23,7 +23,7 @@
 //! [`SpinChain::centre`]: super::chain::SpinChain::centre
 
 use super::chain::{OneSpin, Spin};
-use super::packet::{LANES, Lane, RayPacket, SLACK, dot, mul};
+use super::packet::{Lane, RayPacket, SLACK, dot, mul};
 use super::pose::Orbit;
 use glam::{Mat3A, Vec3A};
 use std::cell::Cell;
@@ -75,15 +75,6 @@ fn moving(p: Vec3A, v: Vec3A, t: Lane) -> [Lane; 3] {
     std::array::from_fn(|k| Lane::splat(p[k]) + Lane::splat(v[k]) * t)
 }
 
-/// Each lane's rotation `spin.at(t_i)`, as columns in lanes.
-#[inline]
-fn rotations(spin: &Spin, t: &[f32; LANES]) -> [[Lane; 3]; 3] {
-    let r: [[f32; 9]; LANES] = std::array::from_fn(|i| spin.at(t[i]).to_cols_array());
-    std::array::from_fn(|c| {
-        std::array::from_fn(|k| Lane::new(std::array::from_fn(|i| r[i][3 * c + k])))
-    })
-}
-
 /// Orbiting spheres under one spin and one chain above it.
 #[derive(Clone, Debug)]
 struct Group {
@@ -106,7 +97,7 @@ pub(crate) struct Orbits {
 
 /// The orbiting spheres' centres at a packet's eight times ([`Orbits::centres`]), each worked
 /// out when first asked for (with its spin's rotation per lane, also kept), so a packet none of
-/// whose rays passes near a group pays neither its `sincosf`s nor its centres; and the groups'
+/// whose rays passes near a group pays neither its rotations nor its centres; and the groups'
 /// heads. One per camera packet, shared by its shadow and mirror rays.
 pub(crate) struct Centres<'a> {
     orbits: &'a Orbits,
@@ -135,8 +126,7 @@ impl Centres<'_> {
         let o = &self.orbits.orbiters[k];
         let s = o.spin as usize;
         if self.turned.get() & (1 << s) == 0 {
-            let t = self.time.to_array();
-            self.rotations[s].set(rotations(&self.orbits.spins[s], &t));
+            self.rotations[s].set(self.orbits.spins[s].at_lanes(self.time));
             self.turned.set(self.turned.get() | 1 << s);
         }
         self.centres[k].set(o.centre(&self.rotations[s].get(), self.time));

@@ -197,10 +197,10 @@ impl PoseOverTime {
 
 /// The last pose of each spinning instance and the ray time it was computed for, so that the
 /// rays of one camera sample (its primary, shadow and mirror rays share its time) compute a
-/// spinning pose once: [`SpinChain::at`] (a rotation per spinning layer, a libm `sincosf`
+/// spinning pose once: [`SpinChain::at`] (a rotation per spinning layer, a sine and cosine
 /// each) was 14% of the thesis's spheres scene (perf, frame 100). An orbiting sphere's centre
 /// takes its rotations from the last rotation of each of the world's [`Spins`], so the
-/// spheres of one spinning group share one `sincosf` per time. A pure function of the time's
+/// spheres of one spinning group share one sine and cosine per time. A pure function of the time's
 /// bits, so a cached pose or rotation is the one computed again, to the bit. One per thread's
 /// piece of work (a [`crate::shading::Tracer`]); empty, it caches nothing.
 #[derive(Debug, Default)]
