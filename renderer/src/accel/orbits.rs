@@ -98,7 +98,10 @@ pub(crate) struct Orbits {
 /// The orbiting spheres' centres at a packet's eight times ([`Orbits::centres`]), each worked
 /// out when first asked for (with its spin's rotation per lane, also kept), so a packet none of
 /// whose rays passes near a group pays neither its rotations nor its centres; and the groups'
-/// heads. One per camera packet, shared by its shadow and mirror rays.
+/// heads. One per camera packet, shared by its shadow and mirror rays, and made ready for the
+/// next packet by [`Centres::reset`] rather than made anew: its cells are 3.4 kB, and zeroing
+/// them per packet was a `memset` of 266 M instructions in the spheres scene's frame 100 at
+/// 1 spp (`docs/benchmarks/lanes.md`, "Eighth pass, spheres").
 pub(crate) struct Centres<'a> {
     orbits: &'a Orbits,
     time: Lane,
@@ -112,6 +115,17 @@ pub(crate) struct Centres<'a> {
 }
 
 impl Centres<'_> {
+    /// Ready for a packet at times `time`: its groups' heads, and no centre or rotation worked
+    /// out yet (the cells keep the last packet's values, never read: `placed` and `turned` say
+    /// which are this packet's).
+    #[inline]
+    pub(crate) fn reset(&mut self, time: Lane) {
+        self.time = time;
+        self.heads = self.orbits.heads(time);
+        self.placed.set(0);
+        self.turned.set(0);
+    }
+
     /// Orbit `k`'s centre per lane.
     #[inline(always)]
     pub(crate) fn of(&self, k: usize) -> [Lane; 3] {
@@ -216,15 +230,21 @@ impl Orbits {
         Centres {
             orbits: self,
             time,
-            heads: std::array::from_fn(|g| match self.groups.get(g) {
-                Some(group) => moving(group.head.offset, group.head.velocity, time),
-                None => ZERO,
-            }),
+            heads: self.heads(time),
             centres: std::array::from_fn(|_| Cell::new(ZERO)),
             rotations: std::array::from_fn(|_| Cell::new([ZERO; 3])),
             placed: Cell::new(0),
             turned: Cell::new(0),
         }
+    }
+
+    /// The groups' heads `p_0 + u_0 t` at the times `time`.
+    #[inline(always)]
+    fn heads(&self, time: Lane) -> [[Lane; 3]; MAX_GROUPS] {
+        std::array::from_fn(|g| match self.groups.get(g) {
+            Some(group) => moving(group.head.offset, group.head.velocity, time),
+            None => [Lane::ZERO; 3],
+        })
     }
 
     /// The lanes of `active` whose ray may pass near group `g`'s spheres (see the module

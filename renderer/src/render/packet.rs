@@ -26,9 +26,9 @@ use glam::{Vec3, Vec3A};
 /// in 0..spp, so each lane's radiance is added to its own pixel's running sum (kept in lanes)
 /// in sample order, the terms and order of [`super::scalar_span`]. Returns the number of
 /// samples that were not finite.
-pub(super) fn packet_span(
-    tracer: &Tracer,
-    small: Option<&SmallWorld>,
+pub(super) fn packet_span<'a>(
+    tracer: &Tracer<'a>,
+    small: Option<&'a SmallWorld>,
     sampler: &FrameSampler,
     camera: &CameraRays,
     x0: u32,

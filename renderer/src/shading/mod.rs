@@ -16,6 +16,7 @@
 mod chains;
 mod packet;
 
+use crate::accel::packet::Centres;
 use crate::accel::pose::PoseCache;
 use crate::accel::{SurfaceHit, World};
 use crate::geometry::Ray;
@@ -23,7 +24,7 @@ use crate::light::{Light, LightSample};
 use crate::material::Material;
 use crate::scene::Scene;
 use glam::{Vec3, Vec3A};
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 /// Traces rays through one frame's world (one tracer per thread's piece of work: it counts
 /// the rays it casts).
@@ -34,6 +35,8 @@ pub struct Tracer<'a> {
     rays: Cell<u64>,
     /// The spinning instances' poses at the current camera sample's time.
     poses: PoseCache,
+    /// The packet form's orbiting centres, reset per camera packet (`radiance_packet`).
+    centres: RefCell<Option<Centres<'a>>>,
 }
 
 impl<'a> Tracer<'a> {
@@ -49,6 +52,7 @@ impl<'a> Tracer<'a> {
             max_depth,
             rays: Cell::new(0),
             poses: world.pose_cache(),
+            centres: RefCell::new(None),
         }
     }
 

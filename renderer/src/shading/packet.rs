@@ -33,14 +33,17 @@ use glam::{Vec3, Vec3A};
 /// A vector per lane.
 pub type V3 = [Lane; 3];
 
-impl Tracer<'_> {
+impl<'a> Tracer<'a> {
     /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` whose bit is set in `live`, in
     /// lanes (the others' values are not to be read; they cast nothing). `small` must be the
     /// world's packet form.
-    pub fn radiance_packet(&self, small: &SmallWorld, ray: &RayPacket, live: u32) -> V3 {
-        // The orbiting spheres' centres at the lanes' times, for every ray of the packet.
-        let centres = small.centres(ray.time);
-        self.packet_at(small, &centres, ray, live, 0)
+    pub fn radiance_packet(&self, small: &'a SmallWorld, ray: &RayPacket, live: u32) -> V3 {
+        // The orbiting spheres' centres at the lanes' times, for every ray of the packet: the
+        // tracer's cells, made once and reset per packet.
+        let mut cells = self.centres.borrow_mut();
+        let centres = cells.get_or_insert_with(|| small.centres(ray.time));
+        centres.reset(ray.time);
+        self.packet_at(small, centres, ray, live, 0)
     }
 
     /// [`Tracer::radiance`]`(ray lane i, depth)` for the lanes of `live`, in lanes; `centres`
