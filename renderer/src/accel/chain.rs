@@ -56,6 +56,11 @@ pub struct Spin {
 }
 
 impl Spin {
+    /// The unit axis it turns about.
+    pub fn axis(&self) -> Vec3 {
+        self.axis
+    }
+
     /// The rotation at time `t`: [`Spin::at_lanes`] on a splat, the one formula of the poses,
     /// the spheres' centres and their lanes (`accel::orbits`), so that all give the same bits
     /// for the same time.

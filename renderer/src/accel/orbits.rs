@@ -20,6 +20,23 @@
 //! test's own rounding, so the sphere test would have missed too: the same answers, bit for
 //! bit (`accel::packet`'s tests).
 //!
+//! Slabs: a spin about the unit axis `a` keeps `a · p_1`, so each member's centre stays at
+//! height `s a · p_1` above the head along `n = L_0 a / s` (the plane the group turns in), and
+//! its sphere within `|n · (x - h)| <= H`, `H` the largest `|s a · p_1| + R` (a carousel is a
+//! thin slab in a large bound). A lane that passes the bound but whose line's chord through
+//! it stays outside the slab misses every member too ([`Group::beside`]): the chord's
+//! midpoint, the foot of the line from the head, is at height `m = n · (o - h) - (n · d) k`
+//! (`k = (o - h) · d / d · d`), and along the chord, of half length `sqrt(B^2 - D^2)`, the
+//! height changes by at most `|n · d| / |d|` times that, so the lane is culled where
+//! `(|m| - H)^2 d · d > (n · d)^2 (B^2 - D^2)` with `|m| > H`. Its rounding: `H` is padded by
+//! `2^-10` of each member's reach (`s |p_1| + R`: the centres' and the stored `n`'s few `u`),
+//! `|m|` is lowered by [`SLACK`] times `|o - h|_1 + |h|_inf` (its own rounding, of a few `u |o -
+//! h|`, and the centres' absolute rounding), `|n · d|` raised by [`SLACK`]` |d|_1`, the chord
+//! taken from the padded bound and the computed `D^2` as the bound test gives them (`limit -
+//! D^2`, which is at least the true chord's square), and the right side grown by `2^-10`
+//! against the products' rounding: a culled lane passes every member by more than the sphere
+//! test's rounding, so the same answers, bit for bit.
+//!
 //! [`SpinChain::centre`]: super::chain::SpinChain::centre
 
 use super::chain::{OneSpin, Spin};
@@ -82,6 +99,10 @@ struct Group {
     head: OneSpin,
     /// `(B (1 + 2^-10))^2`.
     bound2: f32,
+    /// `n`, the unit normal of the plane the members turn in (`L_0 a`, normalised).
+    axis: [f32; 3],
+    /// `H`: the members' largest `|n · L_0 p_1| + R`, each padded by `2^-10` of its reach.
+    half_height: f32,
     /// The members' instance indices.
     members: Vec<u32>,
 }
@@ -185,9 +206,12 @@ impl Orbits {
                 _ if c.inner_velocity != Vec3A::ZERO => None,
                 Some(g) => Some(g),
                 None if self.groups.len() < MAX_GROUPS => {
+                    let axis = (c.forward * Vec3A::from(c.spin.axis())).normalize();
                     self.groups.push(Group {
                         head,
                         bound2: 0.0,
+                        axis: axis.to_array(),
+                        half_height: 0.0,
                         members: Vec::new(),
                     });
                     Some(self.groups.len() - 1)
@@ -206,9 +230,12 @@ impl Orbits {
                 .length()
                 .max(f.y_axis.length())
                 .max(f.z_axis.length());
-            let reach = (norm * c.inner_offset.length() + radius) * (1.0 + 1.0 / 1024.0);
+            let reach = norm * c.inner_offset.length() + radius;
             let group = &mut self.groups[g];
-            group.bound2 = group.bound2.max(reach * reach);
+            let padded = reach * (1.0 + 1.0 / 1024.0);
+            group.bound2 = group.bound2.max(padded * padded);
+            let height = Vec3A::from(group.axis).dot(f * c.inner_offset).abs() + radius;
+            group.half_height = group.half_height.max(height + reach / 1024.0);
             group.members.push(instance);
         }
         loose
@@ -254,14 +281,50 @@ impl Orbits {
         if active == 0 {
             return 0;
         }
+        let group = &self.groups[g];
         let head = &centres.heads[g];
         let oc: [Lane; 3] = std::array::from_fn(|k| ray.origin[k] - head[k]);
         let cc = dot(&oc, &oc);
         let hb = dot(&oc, &ray.dir);
         let a = dot(&ray.dir, &ray.dir);
-        let limit = Lane::splat(self.groups[g].bound2) + Lane::splat(SLACK) * cc;
-        let past = (cc - hb * (hb / a)).simd_gt(limit);
+        let limit = Lane::splat(group.bound2) + Lane::splat(SLACK) * cc;
+        let k = hb / a;
+        let d2 = cc - hb * k;
+        let past = d2.simd_gt(limit);
         let away = hb.simd_gt(Lane::ZERO) & cc.simd_gt(limit);
-        active & !(past | away).to_bitmask()
+        let near = active & !(past | away).to_bitmask();
+        if near == 0 {
+            return 0;
+        }
+        near & !group.beside(&oc, &ray.dir, head, k, limit - d2)
+    }
+}
+
+impl Group {
+    /// The lanes whose line's chord through the bound stays outside the slab (see the module
+    /// notes): `oc = o - h`, `k = oc · d / d · d`, `chord2 = limit - D^2` from the bound test.
+    #[inline(always)]
+    fn beside(
+        &self,
+        oc: &[Lane; 3],
+        d: &[Lane; 3],
+        head: &[Lane; 3],
+        k: Lane,
+        chord2: Lane,
+    ) -> u32 {
+        let n = self.axis.map(Lane::splat);
+        let dz = dot(&n, d);
+        let m = dot(&n, oc) - dz * k;
+        let l1 = |v: &[Lane; 3]| v[0].abs() + v[1].abs() + v[2].abs();
+        let far = head[0]
+            .abs()
+            .fast_max(head[1].abs())
+            .fast_max(head[2].abs());
+        let slack = Lane::splat(SLACK);
+        let margin = m.abs() - Lane::splat(self.half_height) - slack * (l1(oc) + far);
+        let tilt = dz.abs() + slack * l1(d);
+        let rise = tilt * tilt * chord2 * Lane::splat(1.0 + 1.0 / 1024.0);
+        let clear = margin.simd_gt(Lane::ZERO) & (margin * margin * dot(d, d)).simd_gt(rise);
+        clear.to_bitmask()
     }
 }
