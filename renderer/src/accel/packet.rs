@@ -589,9 +589,10 @@ impl SmallWorld {
         nearest
     }
 
-    /// The materials of the instances, in instance order.
-    pub(crate) fn materials(&self) -> impl Iterator<Item = u32> + '_ {
-        self.shapes.iter().map(|s| s.material)
+    /// Instance `i`'s material.
+    #[inline]
+    pub(crate) fn material(&self, i: usize) -> u32 {
+        self.shapes[i].material
     }
 
     /// The unit world-space normal of instance `i` at parameter `t` of each lane's ray, as

@@ -235,7 +235,8 @@ struct Hits {
 
 impl Hits {
     /// The hits of the lanes of `lanes`: each instance's normals and material for the lanes
-    /// it won.
+    /// it won, for the instances some lane won only (a packet meets one to three of the
+    /// world's up to 24 instances).
     #[inline]
     fn new(
         tracer: &Tracer,
@@ -249,13 +250,14 @@ impl Hits {
         let mut normal = [Lane::ZERO; 3];
         let mut m = Materials::default();
         let on_lanes = lane_mask(lanes);
-        for (i, material) in small.materials().enumerate() {
+        let instances = nearest.instance.to_array();
+        let mut pending = lanes;
+        while pending != 0 {
+            let i = instances[pending.trailing_zeros() as usize] as usize;
             let on = nearest.is(i) & on_lanes;
-            if !on.any() {
-                continue;
-            }
+            pending &= !on.to_bitmask();
             normal = select(on, &small.normal(i, ray, nearest.t, centres), &normal);
-            let material = &tracer.scene.materials[material as usize];
+            let material = &tracer.scene.materials[small.material(i) as usize];
             m.add(on, material, tracer.max_depth > 0);
         }
         let v = ray.dir.map(|c| -c);
@@ -283,7 +285,7 @@ impl Hits {
             geometric_normal: normal,
             shading_normal: normal,
             instance,
-            material: small.materials().nth(instance as usize).unwrap_or(0),
+            material: small.material(instance as usize),
         }
     }
 
