@@ -275,9 +275,16 @@ impl Orbits {
     }
 
     /// The lanes of `active` whose ray may pass near group `g`'s spheres (see the module
-    /// notes); the others surely miss them all.
+    /// notes); the others surely miss them all. `a` is the rays' `d · d`.
     #[inline(always)]
-    pub(crate) fn near(&self, g: usize, ray: &RayPacket, centres: &Centres, active: u32) -> u32 {
+    pub(crate) fn near(
+        &self,
+        g: usize,
+        ray: &RayPacket,
+        a: Lane,
+        centres: &Centres,
+        active: u32,
+    ) -> u32 {
         if active == 0 {
             return 0;
         }
@@ -286,7 +293,6 @@ impl Orbits {
         let oc: [Lane; 3] = std::array::from_fn(|k| ray.origin[k] - head[k]);
         let cc = dot(&oc, &oc);
         let hb = dot(&oc, &ray.dir);
-        let a = dot(&ray.dir, &ray.dir);
         let limit = Lane::splat(group.bound2) + Lane::splat(SLACK) * cc;
         let k = hb / a;
         let d2 = cc - hb * k;
@@ -296,18 +302,20 @@ impl Orbits {
         if near == 0 {
             return 0;
         }
-        near & !group.beside(&oc, &ray.dir, head, k, limit - d2)
+        near & !group.beside(&oc, &ray.dir, a, head, k, limit - d2)
     }
 }
 
 impl Group {
     /// The lanes whose line's chord through the bound stays outside the slab (see the module
-    /// notes): `oc = o - h`, `k = oc · d / d · d`, `chord2 = limit - D^2` from the bound test.
+    /// notes): `oc = o - h`, `a = d · d`, `k = oc · d / a`, `chord2 = limit - D^2` from the
+    /// bound test.
     #[inline(always)]
     fn beside(
         &self,
         oc: &[Lane; 3],
         d: &[Lane; 3],
+        a: Lane,
         head: &[Lane; 3],
         k: Lane,
         chord2: Lane,
@@ -324,7 +332,7 @@ impl Group {
         let margin = m.abs() - Lane::splat(self.half_height) - slack * (l1(oc) + far);
         let tilt = dz.abs() + slack * l1(d);
         let rise = tilt * tilt * chord2 * Lane::splat(1.0 + 1.0 / 1024.0);
-        let clear = margin.simd_gt(Lane::ZERO) & (margin * margin * dot(d, d)).simd_gt(rise);
+        let clear = margin.simd_gt(Lane::ZERO) & (margin * margin * a).simd_gt(rise);
         clear.to_bitmask()
     }
 }

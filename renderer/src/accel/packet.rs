@@ -263,9 +263,10 @@ impl RayPacket {
 pub(crate) const SLACK: f32 = 64.0 * f32::EPSILON / 2.0;
 
 /// The nearest sphere root in `(0, t_max)` per lane ([`crate::geometry::Sphere::closest`]'s
-/// arithmetic), `+inf` where there is none; only the lanes of `active` need be right.
+/// arithmetic), `+inf` where there is none; only the lanes of `active` need be right. `a` is
+/// `d · d`, worked out once per packet for the spheres that take the rays' own directions.
 #[inline(always)]
-fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -> Lane {
+fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], a: Lane, t_max: Lane, active: u32) -> Lane {
     let r = Lane::splat(radius);
     let half_b = dot(o, d);
     let oo = dot(o, o);
@@ -277,7 +278,6 @@ fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -
     if active & !away.to_bitmask() == 0 {
         return Lane::splat(f32::INFINITY);
     }
-    let a = dot(d, d);
     // Passing clearly outside: the line's squared distance from the centre times `a`,
     // `a |o|^2 - (o·d)^2`, above `a r^2 (1 + 2^-10)^2` by more than its rounding
     // ([`SLACK`]` a |o|^2`), so the foot `f` below, off by a few `u |o|`, is above `r` too and the
@@ -372,12 +372,19 @@ impl SmallShape {
     }
 
     /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none; only the lanes of `active`
-    /// need be right.
+    /// need be right. `dd` is the rays' `d · d`.
     #[inline(always)]
-    fn closest(&self, ray: &RayPacket, active: u32, centres: &Centres) -> Lane {
+    fn closest(&self, ray: &RayPacket, dd: Lane, active: u32, centres: &Centres) -> Lane {
         let (o, d) = self.pose.ray_to_object(ray, centres);
         match self.kind {
-            Kind::Sphere { radius } => sphere(radius, &o, &d, ray.t_max, active),
+            Kind::Sphere { radius } => {
+                // An unturned pose keeps the rays' directions, so their `d · d`.
+                let a = match self.pose.matrix {
+                    None => dd,
+                    Some(_) => dot(&d, &d),
+                };
+                sphere(radius, &o, &d, a, ray.t_max, active)
+            }
             Kind::Plane { half_extent } => plane(half_extent, &o, &d, ray.t_max, active),
         }
     }
@@ -571,18 +578,19 @@ impl SmallWorld {
     #[inline]
     pub(crate) fn nearest(&self, ray: &RayPacket, simple: u32, centres: &Centres) -> Nearest {
         let mut nearest = Nearest::new();
+        let dd = dot(&ray.dir, &ray.dir);
         for &i in &self.loose {
             let shape = &self.shapes[i as usize];
-            nearest.add(shape.closest(ray, simple, centres), i);
+            nearest.add(shape.closest(ray, dd, simple, centres), i);
         }
         // A group's spheres only for the lanes passing near it (a lane culled would miss).
         for (g, members) in self.orbits.groups() {
-            let near = self.orbits.near(g, ray, centres, simple);
+            let near = self.orbits.near(g, ray, dd, centres, simple);
             if near == 0 {
                 continue;
             }
             for &i in members {
-                let t = self.shapes[i as usize].closest(ray, near, centres);
+                let t = self.shapes[i as usize].closest(ray, dd, near, centres);
                 nearest.add(lane_mask(near).bitselect(t, Lane::splat(f32::INFINITY)), i);
             }
         }
@@ -613,9 +621,10 @@ impl SmallWorld {
     #[inline]
     pub(crate) fn blocked(&self, ray: &RayPacket, simple: u32, centres: &Centres) -> u32 {
         let mut blocked = 0;
+        let dd = dot(&ray.dir, &ray.dir);
         // Only the lanes not yet blocked need an answer.
         let hits = |i: u32, active: u32| {
-            let t = self.shapes[i as usize].closest(ray, active, centres);
+            let t = self.shapes[i as usize].closest(ray, dd, active, centres);
             t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask() & active
         };
         for &i in &self.loose {
@@ -625,7 +634,7 @@ impl SmallWorld {
             }
         }
         for (g, members) in self.orbits.groups() {
-            let near = self.orbits.near(g, ray, centres, simple & !blocked);
+            let near = self.orbits.near(g, ray, dd, centres, simple & !blocked);
             if near == 0 {
                 continue;
             }
