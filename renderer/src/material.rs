@@ -18,7 +18,8 @@ impl Fresnel {
     #[inline]
     pub fn reflectance(&self, cos_theta: f32) -> f32 {
         let c = cos_theta.clamp(0.0, 1.0);
-        self.min + (self.max - self.min) * (1.0 - c).powf(self.exponent)
+        // The suite's exponents are whole (5): f64 products, not libm's `powf` (`math::pow`).
+        self.min + (self.max - self.min) * crate::math::pow_whole(1.0 - c, self.exponent)
     }
 }
 
