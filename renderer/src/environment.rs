@@ -18,6 +18,7 @@
 mod lanes;
 
 use glam::{Vec3, Vec3A};
+use rayon::prelude::*;
 use std::f32::consts::PI;
 use std::path::Path;
 
@@ -81,8 +82,11 @@ impl Environment {
     ) -> (Self, Repairs) {
         assert_eq!(texels.len(), 3 * width * height, "texel count");
         // Real maps are clean: one branch-free pass (NaN fails both comparisons) proves it and
-        // skips the two slower passes, which would change nothing and find nothing.
-        let clean = texels.iter().all(|c| (0.0..=MAX_RADIANCE).contains(c));
+        // skips the two slower passes, which would change nothing and find nothing. The pass is
+        // shared between the threads: loading is the part of a render they cannot share.
+        let clean = texels
+            .par_chunks(1 << 16)
+            .all(|part| part.iter().all(|c| (0.0..=MAX_RADIANCE).contains(c)));
         let repairs = if clean {
             Repairs::default()
         } else {

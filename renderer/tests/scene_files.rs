@@ -214,6 +214,24 @@ fn bad_scenes_are_refused_naming_the_file_and_the_field() {
             ),
             &["settings.environment.file", ".hdr or .exr"],
         ),
+        // The map is read beside the rest of the scene; the errors keep their order: the
+        // rest's first, then the environment's fields, then its file.
+        (
+            with(
+                with(base.clone(), "camera/fov", json!(180)),
+                "settings/environment",
+                json!({"file": "sky.hdr"}),
+            ),
+            &["camera.fov", "between 0 and 180"],
+        ),
+        (
+            with(
+                base.clone(),
+                "settings/environment",
+                json!({"file": "sky.hdr", "intensity": -1}),
+            ),
+            &["settings.environment.intensity", ">= 0"],
+        ),
         (
             with(base.clone(), "settings/frames", Value::Null),
             &["settings", "frames"],
