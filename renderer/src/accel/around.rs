@@ -9,7 +9,9 @@
 //!
 //! The sphere: around the instance's swept box as the top level pads it (`World`'s
 //! `pad_top_level` of [`swept_bounds`](super::swept::swept_bounds), which holds the instance at
-//! every time of the shutter), centred on the box's centre, its radius the half diagonal grown
+//! every time of the shutter), centred on the box's centre; its radius, for a ball of radius
+//! `R`, the half diagonal of the box shrunk by `R` (where the ball's centre stays) plus `R`
+//! (for a still ball `R` itself, not the box's `sqrt 3 R`), grown
 //! by `2^-10` and by `2^-20` of the box's largest coordinate (the centres' absolute rounding). The test is the sphere test's early outs ([`super::packet`]'s `sphere`, with its
 //! rounding [`SLACK`]): a lane is culled where its line passes the widened sphere by more than
 //! the test's rounding, or where its origin is outside it and the ray leads away. A culled
@@ -20,6 +22,7 @@
 
 use super::packet::{Lane, RayPacket, SLACK, dot};
 use crate::geometry::Bounds;
+use glam::Vec3A;
 
 /// A sphere holding an instance over the shutter: its centre and its radius squared, the
 /// radius widened by `2^-10`.
@@ -30,16 +33,21 @@ pub(crate) struct Around {
 }
 
 impl Around {
-    /// The sphere around `swept` (padded already); `None` for an empty or unbounded box.
-    pub(crate) fn new(swept: Bounds) -> Option<Self> {
+    /// The sphere around a ball of radius `radius` (0 for any other shape) held by `swept`
+    /// (padded already) at every time; `None` for an empty or unbounded box.
+    pub(crate) fn new(swept: Bounds, radius: f32) -> Option<Self> {
         if swept.is_empty() || !swept.is_finite() {
             return None;
         }
         let centre = (swept.min + swept.max) * 0.5;
-        // The half diagonal from the centre to the farthest corner; the pad covers its
-        // rounding, and `2^-20` of the coordinates' size the centre's (and that of the
-        // centres the lanes place, a few `u` of their size).
-        let half = (swept.max - centre).max(centre - swept.min).length();
+        // A ball the box holds has its centre within the box shrunk by its radius, so within
+        // that box's half diagonal of the centre, and all of it within `radius` more (the
+        // whole half diagonal for other shapes). The pad covers the rounding, and `2^-20` of
+        // the coordinates' size the centre's (and that of the centres the lanes place, a few
+        // `u` of their size).
+        let extent = (swept.max - centre).max(centre - swept.min);
+        let radius = radius.abs();
+        let half = (extent - Vec3A::splat(radius)).max(Vec3A::ZERO).length() + radius;
         let far = swept.min.abs().max(swept.max.abs()).max_element();
         let wide = half * (1.0 + 1.0 / 1024.0) + far / 1_048_576.0;
         Some(Self {

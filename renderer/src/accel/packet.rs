@@ -446,11 +446,19 @@ impl SmallWorld {
             .filter(|&i| shapes[i as usize].pose.orbit.is_none())
             .collect();
         loose.extend(grouped);
+        let around = swept
+            .iter()
+            .zip(&shapes)
+            .map(|(b, shape)| match shape.kind {
+                Kind::Sphere { radius } => Around::new(*b, radius),
+                Kind::Plane { .. } => Around::new(*b, 0.0),
+            })
+            .collect();
         Some(Self {
             shapes,
             orbits,
             loose,
-            around: swept.iter().map(|b| Around::new(*b)).collect(),
+            around,
         })
     }
 
