@@ -4,9 +4,11 @@
 //! object space); [`pose`] is how an instance's pose depends on time; [`swept`] its bounds over
 //! a shutter interval; [`chain`] the per-ray form of a spinning pose; [`packet`] the packet
 //! form of a world of a few spheres and planes (eight rays at once, bit for bit the scalar
-//! results; `orbits` its orbiting spheres' centres and groups); [`cull`] one box around the
-//! world, which tells a packet's rays that surely hit nothing. See `docs/geometry.md`.
+//! results; `orbits` its orbiting spheres' centres and groups, `around` each grouped one's bound
+//! over the shutter); [`cull`] one box around the world, which tells a packet's rays that surely
+//! hit nothing. See `docs/geometry.md`.
 
+mod around;
 pub mod chain;
 mod cull;
 mod orbits;

@@ -36,10 +36,11 @@ use super::Instance;
 #[cfg(test)]
 use super::SurfaceHit;
 use super::World;
+use super::around::Around;
 pub(crate) use super::orbits::Centres;
 use super::orbits::Orbits;
 use super::pose::{Pose, PoseOverTime, Spins};
-use crate::geometry::{Ray, Shape};
+use crate::geometry::{Bounds, Ray, Shape};
 use glam::{Mat3A, Vec3A};
 
 /// Rays per packet: the lanes of [`Lane`]. (With baseline x86-64's SSE2, `f32x8` is two
@@ -67,6 +68,9 @@ pub struct SmallWorld {
     orbits: Orbits,
     /// The instances tested by every ray: all but the orbiting spheres of a group.
     loose: Vec<u32>,
+    /// Per instance, a sphere around it over the shutter ([`Around`]); a grouped orbiting
+    /// sphere is placed and tested only for the lanes that may meet it.
+    around: Vec<Option<Around>>,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -395,11 +399,13 @@ impl SmallWorld {
     /// them, their poses and the distinct spins ([`World`]'s), or `None` if it has a mesh, a
     /// spinning instance other than a sphere orbiting under one spin, or more than
     /// [`MAX_INSTANCES`] instances.
+    /// `swept` holds each instance's padded box over the shutter.
     pub fn new(
         instances: &[Instance],
         shapes: &[Shape],
         poses: &[PoseOverTime],
         spins: &Spins,
+        swept: &[Bounds],
     ) -> Option<Self> {
         if instances.len() > MAX_INSTANCES {
             return None;
@@ -440,10 +446,19 @@ impl SmallWorld {
             .filter(|&i| shapes[i as usize].pose.orbit.is_none())
             .collect();
         loose.extend(grouped);
+        let around = swept
+            .iter()
+            .zip(&shapes)
+            .map(|(b, shape)| match shape.kind {
+                Kind::Sphere { radius } => Around::new(*b, radius),
+                Kind::Plane { .. } => Around::new(*b, 0.0),
+            })
+            .collect();
         Some(Self {
             shapes,
             orbits,
             loose,
+            around,
         })
     }
 
@@ -590,11 +605,24 @@ impl SmallWorld {
                 continue;
             }
             for &i in members {
-                let t = self.shapes[i as usize].closest(ray, dd, near, centres);
-                nearest.add(lane_mask(near).bitselect(t, Lane::splat(f32::INFINITY)), i);
+                let lanes = self.near(i, ray, dd, near);
+                if lanes == 0 {
+                    continue;
+                }
+                let t = self.shapes[i as usize].closest(ray, dd, lanes, centres);
+                nearest.add(lane_mask(lanes).bitselect(t, Lane::splat(f32::INFINITY)), i);
             }
         }
         nearest
+    }
+
+    /// The lanes of `active` whose ray may meet instance `i` over the shutter ([`Around`]).
+    #[inline(always)]
+    fn near(&self, i: u32, ray: &RayPacket, dd: Lane, active: u32) -> u32 {
+        match &self.around[i as usize] {
+            Some(around) => around.near(ray, dd, active),
+            None => active,
+        }
     }
 
     /// Instance `i`'s material.
@@ -639,7 +667,10 @@ impl SmallWorld {
                 continue;
             }
             for &i in members {
-                blocked |= hits(i, near & !blocked);
+                let lanes = self.near(i, ray, dd, near & !blocked);
+                if lanes != 0 {
+                    blocked |= hits(i, lanes);
+                }
             }
             if blocked & simple == simple {
                 return simple;

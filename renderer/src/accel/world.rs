@@ -111,11 +111,13 @@ impl World {
         let top = Slices::build(&instances, &bounded, shutter, pieces, |b| {
             pad_top_level(b, scene.diagonal())
         });
-        let small = SmallWorld::new(&instances, &shapes, &poses, &spins);
-        let padded: Vec<Bounds> = bounded
+        // Each instance's box as the top level pads it (an unbounded one stays unbounded).
+        let padded: Vec<Bounds> = swept
             .iter()
-            .map(|&i| pad_top_level(swept[i as usize], scene.diagonal()))
+            .map(|b| pad_top_level(*b, scene.diagonal()))
             .collect();
+        let small = SmallWorld::new(&instances, &shapes, &poses, &spins, &padded);
+        let padded: Vec<Bounds> = bounded.iter().map(|&i| padded[i as usize]).collect();
         let cull = CullBox::new(&padded, !unbounded.is_empty(), shutter);
         Self {
             instances,
