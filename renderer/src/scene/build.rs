@@ -182,7 +182,8 @@ pub fn build_with(
         || build_without_sky(&c, &f, &dir),
     );
     let mut scene = scene?;
-    if let Some(e) = &f.settings.environment {
+    // `read_sky` read a map exactly where the settings name one.
+    if let (Some(e), Some(sky)) = (&f.settings.environment, sky) {
         // Checked here, not before the map is read, so that its error keeps its place; the map
         // was made with the same value.
         c.at_least("settings.environment.intensity".into(), e.intensity, 0.0)?;
@@ -192,7 +193,6 @@ pub fn build_with(
                 "is not a finite number of degrees",
             ));
         }
-        let sky = sky.expect("read_sky reads the map the settings name");
         let (env, warning) =
             sky.map_err(|err| c.err("settings.environment.file", format!("{err:#}")))?;
         scene.warnings.extend(warning);
