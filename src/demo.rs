@@ -70,6 +70,8 @@ pub struct DemoOutput {
     pub side_by_side: Vec<analysis::predict::compare::JndPair>,
     /// The simulated subjects' observer: `predicted.csv` or the given file.
     pub observer: PathBuf,
+    /// The analysis step's warnings (printed as they come); none on a clean run.
+    pub warnings: Vec<String>,
 }
 
 /// Run the demo.
@@ -120,6 +122,9 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
     let mut analyze =
         analysis::options::AnalyzeOptions::new(vec![sessions.clone()], report.clone());
     analyze.bootstrap = args.bootstrap;
+    // The design the sessions ran, so the trials are checked against its plan (and the
+    // analysis does not warn "no --design" about the demo's own step).
+    analyze.design = Some(root.join(DESIGN));
     let analysis_report = analysis::options::run_report(&analyze)?;
     // The library no longer prints; tolerated problems (torn last lines) are shown here, as
     // `analyze` shows them.
@@ -160,6 +165,7 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         prediction: predicted.prediction,
         side_by_side,
         observer: observer_path,
+        warnings: analysis_report.warnings.clone(),
     })
 }
 

@@ -34,6 +34,8 @@ fn demo_writes_the_report_and_reuses_its_stimuli() {
     };
     let first = run(&args).unwrap();
     assert!(first.frames_rendered > 0 && first.frames_reused == 0);
+    // A newcomer's first run warns about nothing of its own making (issue 42: "no --design").
+    assert!(first.warnings.is_empty(), "{:?}", first.warnings);
     let results = root.path().join("results/demo");
     for f in [
         "sessions/s01.jsonl",

@@ -56,7 +56,8 @@ pub struct AnalyzeArgs {
           allow_hyphen_values = true)]
     pub bootstrap: usize,
     /// Master seed of the bootstrap.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = renderer::limits::parse_seed,
+          allow_hyphen_values = true)]
     pub seed: u64,
     /// Levels (spp) of the t-tests.
     #[arg(
@@ -106,9 +107,9 @@ pub struct AnalyzeArgs {
     /// The model across subjects: `pooled` (the pooled fits only) or `multilevel` (also a
     /// multilevel model: subjects' thresholds as normal random effects in ln spp, the
     /// population JND with intervals that include the between-subject variance, model-based
-    /// comparisons; see docs/analysis.md).
-    #[arg(long, value_parser = named::<ModelKind>(), default_value = "pooled")]
-    pub model: ModelKind,
+    /// comparisons; see docs/analysis.md) [default: pooled, multilevel with --equivalence].
+    #[arg(long, value_parser = named::<ModelKind>())]
+    pub model: Option<ModelKind>,
     /// Equivalence margin in ln JND (0.2: a ratio within 0.82-1.22): two one-sided tests for
     /// every point-set and time-filter pair from the multilevel model (implies --model
     /// multilevel).
@@ -119,6 +120,20 @@ pub struct AnalyzeArgs {
     #[arg(long, default_value_t = 200, value_parser = renderer::limits::resamples(0),
           allow_hyphen_values = true)]
     pub subject_bootstrap: usize,
+    /// Warn about main trials with more than N dropped frames (frames the display skipped:
+    /// the subject did not see all of the stimulus), naming each; with --exclude-dropped
+    /// leave them out. See docs/analysis.md.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32),
+          allow_hyphen_values = true)]
+    pub max_dropped_frames: Option<u32>,
+    /// Leave out the trials over --max-dropped-frames.
+    #[arg(long, requires = "max_dropped_frames")]
+    pub exclude_dropped: bool,
+    /// Name every subject whose share of main trials over --max-dropped-frames is above this.
+    #[arg(long, default_value_t = 0.2,
+          value_parser = renderer::limits::real(0.0, 1.0, false, "a share of trials"),
+          allow_hyphen_values = true)]
+    pub max_dropped_share: f64,
 }
 
 /// A clap value parser offering `T`'s names.
@@ -148,15 +163,24 @@ impl AnalyzeArgs {
             unit: self.unit,
             exclude: self.exclude.clone(),
             preset: self.preset,
-            model: self.model,
+            model: self.model.unwrap_or(ModelKind::Pooled),
             equivalence: self.equivalence,
             subject_bootstrap: self.subject_bootstrap,
+            max_dropped_frames: self.max_dropped_frames,
+            exclude_dropped: self.exclude_dropped,
+            max_dropped_share: self.max_dropped_share,
         }
     }
 }
 
 /// The `analyze` command: [`run_report`], then a short summary on stderr.
 pub fn run(args: AnalyzeArgs) -> Result<()> {
+    if let (Some(ModelKind::Pooled), Some(m)) = (args.model, args.equivalence) {
+        anyhow::bail!(
+            "--equivalence {m} asks for the multilevel model's TOST, but --model pooled was \
+             given; drop --model pooled or give --model multilevel"
+        );
+    }
     let args = args.options();
     let report = run_report(&args)?;
     for w in &report.warnings {

@@ -5,6 +5,7 @@
 
 use crate::bootstrap::BootstrapSettings;
 use crate::comparisons::{ComparisonSettings, PairOrder, Unit};
+use crate::data::dropped::DroppedFrames;
 use crate::data::{Dataset, Grouping, Source};
 use crate::multilevel::MultilevelSettings;
 use crate::psychometric::{FitSettings, GUESS, LapseMode};
@@ -58,6 +59,12 @@ pub struct AnalyzeOptions {
     pub equivalence: Option<f64>,
     /// Subject-bootstrap resamples of the multilevel model (0: none).
     pub subject_bootstrap: usize,
+    /// Name main trials with more dropped frames than this (`None`: no check).
+    pub max_dropped_frames: Option<u32>,
+    /// Leave those trials out.
+    pub exclude_dropped: bool,
+    /// Name a subject with a larger share of such trials.
+    pub max_dropped_share: f64,
 }
 
 /// Which model across subjects `analyze` fits.
@@ -107,6 +114,9 @@ impl AnalyzeOptions {
             model: ModelKind::Pooled,
             equivalence: None,
             subject_bootstrap: 200,
+            max_dropped_frames: None,
+            exclude_dropped: false,
+            max_dropped_share: 0.2,
         }
     }
 }
@@ -210,17 +220,24 @@ impl AnalyzeOptions {
             (self.levels.clone(), self.scene_levels.clone())
         };
         if !(guess > 0.0 && guess < 1.0) {
-            bail!("--guess is {guess}; expected a proportion in (0, 1), 1/m for m alternatives");
+            bail!(
+                "--guess is {}; expected a proportion in (0, 1), 1/m for m alternatives",
+                renderer::limits::shortest(guess)
+            );
         }
         if !(target > guess && target <= 0.9) {
             bail!(
-                "--target is {target}; expected a proportion correct in ({guess}, 0.9] (the guess \
+                "--target is {}; expected a proportion correct in ({guess}, 0.9] (the guess \
                  rate {guess} is chance, and above 0.9 a free lapse of up to 0.06 could keep the \
-                 function from reaching it)"
+                 function from reaching it)",
+                renderer::limits::shortest(target)
             );
         }
         if !(alpha > 0.0 && alpha < 1.0) {
-            bail!("--alpha is {alpha}; expected a level in (0, 1)");
+            bail!(
+                "--alpha is {}; expected a level in (0, 1)",
+                renderer::limits::shortest(alpha)
+            );
         }
         if !(1000..=MAX_RESAMPLES).contains(&self.bootstrap) {
             bail!(
@@ -264,14 +281,37 @@ impl AnalyzeOptions {
         })
     }
 
+    /// The dropped-frames policy, if `--max-dropped-frames` asks for one.
+    fn dropped_frames(&self) -> Result<Option<DroppedFrames>> {
+        if !(0.0..=1.0).contains(&self.max_dropped_share) {
+            bail!(
+                "--max-dropped-share is {}; expected a share of trials from 0 to 1",
+                renderer::limits::shortest(self.max_dropped_share)
+            );
+        }
+        match self.max_dropped_frames {
+            None if self.exclude_dropped => bail!(
+                "--exclude-dropped needs --max-dropped-frames N: the most dropped frames a \
+                 trial may have"
+            ),
+            None => Ok(None),
+            Some(max) => Ok(Some(DroppedFrames {
+                max,
+                exclude: self.exclude_dropped,
+                max_share: self.max_dropped_share,
+            })),
+        }
+    }
+
     /// The multilevel model's settings, if `--model multilevel` or `--equivalence` asks for it.
     fn multilevel_settings(&self) -> Result<Option<MultilevelSettings>> {
         if let Some(m) = self.equivalence
             && !(m > 0.0 && m < 5.0)
         {
             bail!(
-                "--equivalence is {m}; expected a margin in ln JND in (0, 5), e.g. 0.2 for a \
-                 ratio within 0.82-1.22"
+                "--equivalence is {}; expected a margin in ln JND in (0, 5), e.g. 0.2 for a \
+                 ratio within 0.82-1.22",
+                renderer::limits::shortest(m)
             );
         }
         if self.subject_bootstrap != 0 && !(200..=MAX_RESAMPLES).contains(&self.subject_bootstrap) {
@@ -312,12 +352,31 @@ pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
         // the valid targets, come from its task).
         args.settings()?;
     }
+    let dropped = args.dropped_frames()?;
     let design = args.design.as_deref().map(Design::load).transpose()?;
-    let mut ds = Dataset::read_checked(&args.inputs, design.as_ref(), args.lenient)?;
+    let mut ds = Dataset::read_with(
+        &args.inputs,
+        design.as_ref(),
+        args.lenient,
+        dropped.as_ref(),
+    )?;
     if let Some(d) = &design {
         check_design(d, &ds)?;
     }
     ds.exclude(&args.exclusions())?;
+    if (args.model == ModelKind::Multilevel || args.equivalence.is_some()) && ds.subjects.len() < 2
+    {
+        bail!(
+            "--model multilevel{}: the data hold {} subject{} ({}); the model's intervals and \
+             TOST use Student t with subjects - 1 df, so they need at least 2 subjects (as \
+             `plan --equivalence` refuses 1)",
+            args.equivalence
+                .map_or(String::new(), |m| format!(" / --equivalence {m}")),
+            ds.subjects.len(),
+            if ds.subjects.len() == 1 { "" } else { "s" },
+            ds.subjects.join(", ")
+        );
+    }
     ds.warnings.extend(args.unchecked(&ds, design.as_ref()));
     let settings = args.settings_for(&ds, design.as_ref())?;
     let report = analyze(&ds, &settings);

@@ -43,6 +43,11 @@ pub fn check(
         let planned = design
             .filter(|d| d.hash == h.design_hash)
             .map(|d| expected_main(d, log));
+        let adaptive = design.is_some_and(|d| !d.file.procedure.is_constant());
+        // The first main index missing from an adaptive log: the procedure chose every later
+        // trial from the answers before, so it cannot be replayed past the gap.
+        let mut next_index = 0u32;
+        let mut gap: Option<u32> = None;
         for (ti, t) in log.trials.iter().enumerate().filter(|(_, t)| !t.practice) {
             let at = format!("{}:{}", log.path.display(), log.trial_lines[ti]);
             let mut problem = |message: String| {
@@ -52,7 +57,9 @@ pub fn check(
                     message: format!("{at}: {message}"),
                 })
             };
-            if mode != h.mode {
+            // A lab (`gui`) and a browser (`web`) session of one subject are both a person's
+            // answers; a simulated log beside either is not.
+            if is_simulated(mode) != is_simulated(&h.mode) {
                 problem(format!(
                     "subject {:?}: header field `mode` is {:?}, but {} is {mode:?}; a subject's \
                      logs must hold one kind of answers",
@@ -72,6 +79,10 @@ pub fn check(
                 continue;
             }
             seen.insert(key, at.clone());
+            if adaptive && gap.is_none() && t.index > next_index {
+                gap = Some(next_index);
+            }
+            next_index = next_index.max(t.index + 1);
             if let Some(m) = answer_problem(t) {
                 problem(m);
             } else if t.index >= h.trials_planned {
@@ -80,6 +91,13 @@ pub fn check(
                     t.index,
                     h.trials_planned,
                     h.trials_planned.saturating_sub(1)
+                ));
+            } else if let Some(missing) = gap.filter(|&g| t.index > g) {
+                problem(format!(
+                    "field `index` is {}, but main trial {missing} is missing from the log; the \
+                     adaptive procedure chose each trial from the answers before it, so trials \
+                     after the missing one cannot be checked (was a line deleted?)",
+                    t.index
                 ));
             } else if let Some(m) = planned
                 .as_ref()
@@ -92,6 +110,11 @@ pub fn check(
         }
     }
     found
+}
+
+/// Whether a header's `mode` is an observer model's rather than a person's (`gui`, `web`).
+fn is_simulated(mode: &str) -> bool {
+    mode == "simulated"
 }
 
 /// The main trials the design puts in a log, by index: the constant-stimuli plan, or an
@@ -107,6 +130,9 @@ fn expected_main(d: &Design, log: &SessionLog) -> Vec<Trial> {
         let Some(t) = p.current().cloned() else {
             break;
         };
+        if r.index as usize != out.len() {
+            break; // a missing trial: `check` names it
+        }
         let same = t.matches(r);
         out.push(t);
         if !same {
@@ -288,6 +314,38 @@ mod tests {
             found[1].message.contains("earlier trial"),
             "{}",
             found[1].message
+        );
+    }
+
+    /// A main trial deleted from an adaptive log: the next is named with the missing index
+    /// (issue 42: it was "the design plans fewer main trials").
+    #[test]
+    fn a_missing_trial_of_an_adaptive_log_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("design.json");
+        std::fs::write(&path, DESIGN).unwrap();
+        let design = Design::load(&path).unwrap();
+        let observer = Observer::parse(Path::new("o.json"), OBSERVER).unwrap();
+        let log_path = dir.path().join("s01.jsonl");
+        experiment::simulate::simulate_subject(&design, &observer, "s01", &log_path).unwrap();
+        let text = std::fs::read_to_string(&log_path).unwrap();
+        let mut lines: Vec<&str> = text.lines().collect();
+        lines.remove(1 + 4 + 7); // main trial 7
+        std::fs::write(&log_path, lines.join("\n") + "\n").unwrap();
+        let log = SessionLog::read(&log_path).unwrap();
+        let found = check(&[log], Some(&design), None);
+        assert_eq!(found.len(), 12, "{found:?}");
+        for f in &found {
+            assert!(
+                f.message.contains("main trial 7 is missing from the log"),
+                "{}",
+                f.message
+            );
+        }
+        assert!(
+            found[0].message.contains("field `index` is 8"),
+            "{}",
+            found[0].message
         );
     }
 }

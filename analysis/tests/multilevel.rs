@@ -51,6 +51,13 @@ fn the_model_is_in_the_report_with_its_comparisons_and_tost() {
         }
         assert!(g.sigma > 0.0 && g.slope > 0.0);
         assert_eq!(g.shrunken.len(), 12);
+        // A subject's interval is at least as wide as the population JND's own uncertainty
+        // (+-1.96 SE): the posterior spread alone ignored it.
+        for s in &g.shrunken {
+            if let (Some(l), Some(u)) = (s.lower.spp(), s.upper.spp()) {
+                assert!(u.ln() - l.ln() >= 2.0 * 1.959 * se, "{s:?} se {se}");
+            }
+        }
     }
     let scenes: Vec<_> = ml
         .comparisons
@@ -115,6 +122,12 @@ fn all_correct_subjects_give_out_of_range_jnds_and_no_nan() {
     let ml = report.multilevel.as_ref().unwrap();
     for g in &ml.groups {
         assert_eq!(g.jnd.kind(), "above_range", "{g:?}");
+        // Each subject follows the population's rule (issue 42: 15625 spp was printed where
+        // the levels end at 64), and so do the interval's ends.
+        for s in &g.shrunken {
+            assert_eq!(s.jnd.display(), "> 64", "{s:?}");
+            assert_eq!(s.upper.display(), "> 64", "{s:?}");
+        }
     }
     let dir = tempfile::tempdir().unwrap();
     analysis::output::write(&report, dir.path()).unwrap();

@@ -85,16 +85,33 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((n(w)?, n(h)?))
 }
 
+/// "96 trials" when every subject ran the planned main trials, else the range that ran.
+fn trials_ran(planned: usize, ran: &[usize]) -> String {
+    let lo = ran.iter().copied().min().unwrap_or(0);
+    let hi = ran.iter().copied().max().unwrap_or(0);
+    match (lo == planned, hi == planned, lo == hi) {
+        (true, true, _) => format!("{planned} trials"),
+        (_, _, true) => format!("{lo} main trials run (of {planned} planned: the stop rule)"),
+        _ => format!("{lo} to {hi} main trials run (of {planned} planned: the stop rule)"),
+    }
+}
+
 /// `simulate`: write one log per simulated subject and say where.
 pub fn simulate(args: SimulateArgs) -> Result<()> {
     let design = Design::load(&args.design)?;
     let observer = Observer::load(&args.observer)?;
     let out = sessions_dir(args.out.as_deref(), &design);
     let paths = crate::simulate::simulate(&design, &observer, args.subjects, &out)?;
+    // What ran, read back from the logs: an adaptive procedure's stop rule can end a track
+    // before its planned trials (issue 42: 96 were announced where 8 ran).
+    let ran = paths
+        .iter()
+        .map(|p| crate::log::SessionLog::read(p).map(|l| l.main_trials().count()))
+        .collect::<Result<Vec<_>>>()?;
     eprintln!(
-        "simulated {} subjects x {} trials of design {:?} with observer {:?} into {}",
+        "simulated {} subjects x {} of design {:?} with observer {:?} into {}",
         paths.len(),
-        design.main_trial_count(),
+        trials_ran(design.main_trial_count() as usize, &ran),
         design.name(),
         observer.file.name,
         out.display()
@@ -138,5 +155,18 @@ mod tests {
         assert_eq!(parse_size("1280x720"), Ok((1280, 720)));
         assert!(parse_size("1280").unwrap_err().contains("WIDTHxHEIGHT"));
         assert!(parse_size("0x10").is_err());
+    }
+
+    #[test]
+    fn simulate_says_what_ran_not_what_was_planned() {
+        assert_eq!(trials_ran(96, &[96, 96]), "96 trials");
+        assert_eq!(
+            trials_ran(96, &[8, 8]),
+            "8 main trials run (of 96 planned: the stop rule)"
+        );
+        assert_eq!(
+            trials_ran(96, &[20, 96]),
+            "20 to 96 main trials run (of 96 planned: the stop rule)"
+        );
     }
 }

@@ -119,6 +119,16 @@ impl Task {
     }
 }
 
+/// As a design file writes it (`two_pair`, `{"alternatives": 4}`), for messages.
+impl std::fmt::Display for Task {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Task::TwoPair => write!(f, "\"two_pair\""),
+            Task::Alternatives(m) => write!(f, "{{\"alternatives\": {m}}}"),
+        }
+    }
+}
+
 /// How the four videos of a trial are arranged.
 #[derive(Clone, Copy, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
@@ -268,6 +278,19 @@ impl Design {
                 value
                     .get("format")
                     .map_or("missing".into(), |f| f.to_string())
+            );
+        }
+        // serde's message for an enum given two keys is "expected value at line n".
+        if let Some(p) = value.get("procedure").and_then(|p| p.as_object())
+            && p.len() != 1
+        {
+            let keys: Vec<&str> = p.keys().map(String::as_str).collect();
+            bail!(
+                "{}: field `procedure` names {} procedures ({}); expected exactly one procedure: \
+                 \"constant_stimuli\", {{\"quest_plus\": {{...}}}} or {{\"staircase\": {{...}}}}",
+                path.display(),
+                keys.len(),
+                keys.join(", ")
             );
         }
         // Parsed again from the text (not the value) so that errors name the line.
@@ -464,8 +487,9 @@ fn playback(p: &Playback) -> Result<()> {
         && !(1.0..=MAX_PLAYBACK_FPS).contains(&fps)
     {
         bail!(
-            "field `playback.fps` is {fps}; expected frames per second from 1 to \
-             {MAX_PLAYBACK_FPS}"
+            "field `playback.fps` is {}; expected frames per second from 1 to \
+             {MAX_PLAYBACK_FPS}",
+            renderer::limits::shortest(fps)
         );
     }
     if !(1..=100).contains(&p.loops) {

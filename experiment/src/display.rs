@@ -59,7 +59,10 @@ impl DisplaySpec {
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                bail!("field `display.{name}` is {v}; expected a positive number");
+                bail!(
+                    "field `display.{name}` is {}; expected a positive number",
+                    renderer::limits::shortest(v)
+                );
             }
         }
         if self.resolution.contains(&0) {
@@ -74,8 +77,8 @@ impl DisplaySpec {
         {
             bail!(
                 "field `display.black_cd_m2` is {}; expected 0 <= black < peak ({})",
-                self.black_cd_m2,
-                self.peak_cd_m2
+                renderer::limits::shortest(self.black_cd_m2),
+                renderer::limits::shortest(self.peak_cd_m2)
             );
         }
         Ok(())

@@ -322,7 +322,7 @@ fn validate(f: &ObserverFile) -> Result<()> {
         bail!(
             "field `lapse` is {}; expected 0 <= lapse < 0.25 (at 0.25 or more the observer never \
              reaches p = 0.75)",
-            f.lapse
+            renderer::limits::shortest(f.lapse)
         );
     }
     if !(0.0..=MAX_SUBJECT_SPREAD).contains(&f.subject_spread) {

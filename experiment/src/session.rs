@@ -125,7 +125,7 @@ impl Session {
         check_subject(subject)?;
         if design.file.task != Task::TwoPair {
             bail!(
-                "{}: field `task` is {:?}; sessions present the two-pair task only (a design with \
+                "{}: field `task` is {}; sessions present the two-pair task only (a design with \
                  another task describes data collected elsewhere, for `analyze --design`)",
                 design.path.display(),
                 design.file.task

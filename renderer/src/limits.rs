@@ -117,6 +117,26 @@ pub fn parse_spp(s: &str) -> Result<u32, String> {
     whole(s, 1, MAX_SPP as u64, "samples per pixel")
 }
 
+/// `x` for a message in its shortest form: `1e308` and `1e-300` rather than Rust's `{}`,
+/// which writes every digit (309 of them for 1e308, 300 zeros for 1e-300).
+pub fn shortest(x: f64) -> String {
+    let plain = format!("{x}");
+    let sci = format!("{x:e}");
+    if sci.len() < plain.len() { sci } else { plain }
+}
+
+/// clap value parser of a seed (`--seed`): any whole number from 0 to 2^64 - 1; `-1` gets
+/// this range, not clap's `-- -1` hint.
+pub fn parse_seed(s: &str) -> Result<u64, String> {
+    match s.trim().parse::<u64>() {
+        Ok(v) => Ok(v),
+        Err(_) => Err(format!(
+            "`{s}`: expected a seed, a whole number from 0 to {}",
+            u64::MAX
+        )),
+    }
+}
+
 /// clap value parser of a subject count (`simulate --subjects`, each of `plan --subjects`).
 pub fn parse_subjects(s: &str) -> Result<usize, String> {
     whole(s, 1, MAX_SUBJECTS as u64, "subjects")
@@ -144,6 +164,16 @@ pub fn check_count(what: &str, v: u64, lo: u64, hi: u64) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_in_messages_take_their_shortest_form() {
+        assert_eq!(shortest(1e308), "1e308");
+        assert_eq!(shortest(1e-300), "1e-300");
+        assert_eq!(shortest(0.25), "0.25");
+        assert_eq!(shortest(125.0), "125");
+        assert_eq!(shortest(-1.0), "-1");
+        assert_eq!(shortest(f64::NAN), "NaN");
+    }
 
     #[test]
     fn command_line_numbers_say_what_was_expected() {

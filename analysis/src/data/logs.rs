@@ -1,6 +1,7 @@
 //! Reading session logs into a [`Dataset`]: the files of a folder or the files given, every
 //! main trial checked ([`crate::validate`]), against the design and its manifest when given.
 
+use super::dropped::DroppedFrames;
 use super::{Dataset, Observation};
 use anyhow::{Result, bail};
 use experiment::Design;
@@ -25,6 +26,17 @@ impl Dataset {
         inputs: &[PathBuf],
         design: Option<&Design>,
         lenient: bool,
+    ) -> Result<Self> {
+        Self::read_with(inputs, design, lenient, None)
+    }
+
+    /// [`Dataset::read_checked`], with trials over a number of dropped frames named (and left
+    /// out when `dropped` says so, [`super::dropped`]).
+    pub fn read_with(
+        inputs: &[PathBuf],
+        design: Option<&Design>,
+        lenient: bool,
+        dropped: Option<&DroppedFrames>,
     ) -> Result<Self> {
         let files = collect_files(inputs)?;
         let is_csv = |f: &PathBuf| f.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"));
@@ -67,7 +79,7 @@ impl Dataset {
             }
             None => None,
         };
-        let mut ds = Self::from_logs_against(&logs, design, manifest.as_ref(), lenient)?;
+        let mut ds = Self::from_logs_with(&logs, design, manifest.as_ref(), lenient, dropped)?;
         ds.warnings.append(&mut skipped);
         Ok(ds)
     }
@@ -84,6 +96,18 @@ impl Dataset {
         design: Option<&Design>,
         manifest: Option<&Manifest>,
         lenient: bool,
+    ) -> Result<Self> {
+        Self::from_logs_with(logs, design, manifest, lenient, None)
+    }
+
+    /// [`Dataset::from_logs_against`] with the dropped-frames policy of
+    /// [`Dataset::read_with`].
+    pub fn from_logs_with(
+        logs: &[SessionLog],
+        design: Option<&Design>,
+        manifest: Option<&Manifest>,
+        lenient: bool,
+        dropped: Option<&DroppedFrames>,
     ) -> Result<Self> {
         let Some(first) = logs.first() else {
             bail!("no session logs to analyze");
@@ -114,7 +138,7 @@ impl Dataset {
                 }
             );
         }
-        let skip: std::collections::HashSet<(usize, usize)> =
+        let mut skip: std::collections::HashSet<(usize, usize)> =
             findings.iter().map(|f| (f.log, f.trial)).collect();
         let mut obs = Vec::new();
         let mut warnings = Vec::new();
@@ -124,6 +148,11 @@ impl Dataset {
                 findings.len()
             ));
             warnings.extend(findings.iter().map(|f| f.message.clone()));
+        }
+        if let Some(d) = dropped {
+            let (over, mut named) = super::dropped::over_limit(logs, &skip, d);
+            skip.extend(over);
+            warnings.append(&mut named);
         }
         for (li, log) in logs.iter().enumerate() {
             warnings.extend(log.warnings.iter().cloned());
@@ -151,6 +180,11 @@ impl Dataset {
         ds.same_video_levels = same_video_levels(logs, &skip);
         ds.design = first.header.design.clone();
         ds.design_hash = first.header.design_hash.clone();
+        for log in logs {
+            *ds.sessions_by_mode
+                .entry(log.header.mode.clone())
+                .or_default() += 1;
+        }
         ds.files = logs.iter().map(|l| l.path.clone()).collect();
         ds.files.sort();
         ds.warnings = warnings;

@@ -6,6 +6,7 @@
 //! [`Curve`] per subject and one pooled over subjects.
 
 mod counts_table;
+pub mod dropped;
 mod logs;
 
 use anyhow::{Result, bail};
@@ -216,6 +217,9 @@ pub struct Dataset {
     /// so that any observer answers at chance there whatever its threshold. Known only from
     /// session logs (empty for counts tables). The multilevel model leaves these trials out.
     pub same_video_levels: Vec<u32>,
+    /// Session logs read per header `mode` (`gui`: the lab app, `web`: `blurlab serve`,
+    /// `simulated`); empty for counts tables.
+    pub sessions_by_mode: BTreeMap<String, usize>,
 }
 
 /// One analyzed trial, reduced to what aggregation needs. The factors are names, not a
@@ -363,6 +367,7 @@ impl Dataset {
             source: Source::SessionLogs,
             excluded: Vec::new(),
             same_video_levels: Vec::new(),
+            sessions_by_mode: BTreeMap::new(),
         }
     }
 

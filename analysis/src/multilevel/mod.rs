@@ -74,15 +74,21 @@ pub struct Context<'a> {
 }
 
 /// One subject's shrunken JND: the posterior of the subject's threshold given the data at the
-/// estimate (parameter uncertainty not included).
+/// estimate. Like the population's, it is never extrapolated: beyond the tested levels it is
+/// `> top` or `< bottom` (issue 42: all-correct logs gave 15625 spp where levels end at 125).
 #[derive(Clone, Debug, Serialize)]
 pub struct ShrunkenJnd {
     pub subject: String,
-    /// exp(t + E[u | data]), spp.
-    pub spp: f64,
-    /// exp(t + E[u] -+ z SD[u | data]).
-    pub lower: f64,
-    pub upper: f64,
+    /// t + E[u | data], ln spp (for a caller that knows what it does with a value past the
+    /// range).
+    pub ln_jnd: f64,
+    /// exp(t + E[u | data]) as the data support it.
+    pub jnd: Threshold,
+    /// ln JND -+ z sqrt(SD[u | data]^2 + SE[t]^2): the posterior's spread widened by the
+    /// population threshold's own standard error (the uncertainty of sigma and the slope is
+    /// still not included; the report says so).
+    pub lower: Bound,
+    pub upper: Bound,
 }
 
 /// The multilevel model of one group.
@@ -243,11 +249,16 @@ pub fn group_model(ds: &Dataset, g: &Group, cx: &Context) -> Option<GroupModel> 
         .subjects
         .iter()
         .zip(&e.subjects)
-        .map(|(&s, i)| ShrunkenJnd {
-            subject: ds.subjects[s].clone(),
-            spp: (t + i.mean).exp(),
-            lower: (t + i.mean - zq * i.sd).exp(),
-            upper: (t + i.mean + zq * i.sd).exp(),
+        .map(|(&s, i)| {
+            let x = t + i.mean;
+            let sd = i.sd.hypot(se.unwrap_or(0.0));
+            ShrunkenJnd {
+                subject: ds.subjects[s].clone(),
+                ln_jnd: x,
+                jnd: threshold_of(x, lo, hi, levels),
+                lower: bound(x - zq * sd),
+                upper: bound(x + zq * sd),
+            }
         })
         .collect();
     let (p_lo, p_hi) = profile::threshold_interval(&e, &counts, cx, 0, tq);

@@ -82,7 +82,7 @@ pub struct PlanArgs {
     /// subjects than the pooled intervals (about 100 at margin 0.2 on the thesis design), and
     /// these replications skip the pooled fits, so they can search higher counts cheaply.
     #[arg(long, value_delimiter = ',', value_parser = renderer::limits::parse_subjects,
-          allow_hyphen_values = true)]
+          allow_hyphen_values = true, requires = "equivalence")]
     pub equivalence_subjects: Option<Vec<usize>>,
 }
 

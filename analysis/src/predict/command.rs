@@ -56,7 +56,8 @@ pub struct ExplainArgs {
     #[arg(long)]
     pub design: Option<PathBuf>,
     /// Viewing distance in metres, over the design's or the default display.
-    #[arg(long)]
+    #[arg(long, value_parser = renderer::limits::real(0.0, 1000.0, true, "a viewing distance in metres"),
+          allow_hyphen_values = true)]
     pub distance_m: Option<f64>,
     /// Also write the table to this file (Markdown).
     #[arg(long)]
@@ -91,7 +92,9 @@ pub struct FramesArgs {
     #[arg(required = true, num_args = 1..)]
     pub predictions: Vec<PathBuf>,
     /// Minkowski exponent over frames [default: the model's fitted time exponent].
-    #[arg(long, default_value_t = super::pooling::FITTED.space)]
+    #[arg(long, default_value_t = super::pooling::FITTED.space, allow_hyphen_values = true,
+          value_parser = renderer::limits::real(1.0, f64::INFINITY, false,
+              "a Minkowski exponent over frames (inf: the most visible frame)"))]
     pub exponent: f64,
     /// Also write the table to this file (Markdown).
     #[arg(long)]
@@ -157,11 +160,12 @@ pub struct PredictArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Sensitivity constant k (d' = k Q) [default: the fit to ModelFest].
-    #[arg(long, default_value_t = DEFAULT_K)]
+    #[arg(long, default_value_t = DEFAULT_K, allow_hyphen_values = true)]
     pub sensitivity: f64,
     /// Viewing distance in metres, over the design's display block or the default display
     /// (e.g. 0.7, the distance of the manifest's FLIP measurement).
-    #[arg(long)]
+    #[arg(long, value_parser = renderer::limits::real(0.0, 1000.0, true, "a viewing distance in metres"),
+          allow_hyphen_values = true)]
     pub distance_m: Option<f64>,
     /// How the observer compares test and reference: `difference` (T - R at each place, as
     /// fitted to ModelFest) or `side-by-side` (each video's local contrast energy compared, as

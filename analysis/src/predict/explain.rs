@@ -79,6 +79,13 @@ pub fn pair(
     reference: &str,
     display: &DisplaySpec,
 ) -> Result<String> {
+    if test == reference {
+        // The difference is zero everywhere: every share in the table would be 0 / 0.
+        bail!(
+            "--test and --reference are both {test:?}; expected two different stimuli (a pair \
+             with no difference has nothing to explain)"
+        );
+    }
     display.validate()?;
     let manifest = Manifest::load(manifest_path)?;
     let video = |id: &str| {

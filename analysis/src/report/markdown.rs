@@ -8,6 +8,20 @@ use crate::psychometric::{LAPSE_MAX, LapseMode};
 use std::fmt::Write as _;
 
 impl Report {
+    /// "Sessions: 3 lab (`gui`), 2 web, 12 simulated": where the answers come from.
+    pub fn sessions_line(&self) -> String {
+        let parts: Vec<String> = self
+            .sessions_by_mode
+            .iter()
+            .map(|(mode, n)| match mode.as_str() {
+                "gui" => format!("{n} lab (`gui`)"),
+                "web" => format!("{n} web (`blurlab serve`)"),
+                other => format!("{n} {other}"),
+            })
+            .collect();
+        format!("Sessions: {}.", parts.join(", "))
+    }
+
     /// The Markdown report, linking `figures` (paths relative to the report folder).
     pub(crate) fn markdown(&self, figures: &[String]) -> String {
         let s = &self.settings;
@@ -22,6 +36,9 @@ impl Report {
             self.files.len(),
             self.design_hash
         );
+        if !self.sessions_by_mode.is_empty() {
+            let _ = writeln!(md, "{}\n", self.sessions_line());
+        }
         for w in &self.warnings {
             let _ = writeln!(md, "- warning: {w}");
         }

@@ -105,6 +105,8 @@ pub struct Report {
     pub source: Source,
     /// Subjects left out (`--exclude`), with the reasons given.
     pub excluded: Vec<Exclusion>,
+    /// Session logs per header `mode` (`gui`, `web`, `simulated`).
+    pub sessions_by_mode: std::collections::BTreeMap<String, usize>,
     pub groups: Vec<GroupResult>,
     pub comparisons: Vec<Comparison>,
     /// The multilevel model's groups and comparisons (`--model multilevel`).
@@ -133,6 +135,7 @@ pub fn analyze(ds: &Dataset, s: &Settings) -> Report {
         warnings: ds.warnings.clone(),
         source: ds.source,
         excluded: ds.excluded.clone(),
+        sessions_by_mode: ds.sessions_by_mode.clone(),
         groups,
         comparisons: compare(ds, &s.comparisons),
         multilevel: s.multilevel.as_ref().map(|m| {

@@ -78,6 +78,9 @@ impl Report {
         }
         let _ = writeln!(md);
         self.model_comparisons(md, ml, s);
+        if let Some(margin) = s.equivalence {
+            equivalence_table(md, ml, margin);
+        }
         shrunken_tables(md, ml);
     }
 
@@ -124,9 +127,6 @@ impl Report {
             );
         }
         let _ = writeln!(md);
-        if let Some(margin) = s.equivalence {
-            equivalence_table(md, ml, margin);
-        }
     }
 }
 
@@ -144,13 +144,39 @@ fn equivalence_table(md: &mut String, ml: &MultilevelReport, margin: f64) {
         (-margin).exp(),
         margin.exp()
     );
+    // Every point-set and time-filter pair gets a row, tested or not, so that nothing is
+    // skipped without a word (issue 42: all-correct logs gave a header and no row).
+    let pairs: Vec<_> = ml
+        .comparisons
+        .iter()
+        .filter(|c| c.family != Grouping::Scene)
+        .collect();
+    if pairs.is_empty() {
+        let _ = writeln!(
+            md,
+            "No pair to test: the data hold one point set and one time filter (or the model \
+             could not be fitted to any pair).\n"
+        );
+        return;
+    }
     let _ = writeln!(
         md,
         "| family | pair | difference | 90% CI | TOST p | result |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|");
-    for c in &ml.comparisons {
-        let Some(e) = &c.equivalence else { continue };
+    for c in pairs {
+        let Some(e) = &c.equivalence else {
+            let _ = writeln!(
+                md,
+                "| {} | {} vs {} | {:.3} | none | - | not tested: the model gives the difference \
+                 no standard error (thresholds at or beyond the tested levels) |",
+                c.family.name(),
+                c.a,
+                c.b,
+                c.difference
+            );
+            continue;
+        };
         let _ = writeln!(
             md,
             "| {} | {} vs {} | {:.3} | [{:.3}, {:.3}] | {:.3e} | {} |",
@@ -175,8 +201,10 @@ fn shrunken_tables(md: &mut String, ml: &MultilevelReport) {
     let _ = writeln!(
         md,
         "### Shrunken per-subject JNDs\n\n\
-         exp(population ln JND + the subject's posterior mean offset), with the posterior's \
-         +-1.96 SD (given the estimates; their own uncertainty not included). All in \
+         exp(population ln JND + the subject's posterior mean offset), as the population's: \
+         `> top` / `< bottom` level beyond the tested range, never extrapolated. Interval: \
+         +-1.96 times the posterior SD combined with the population JND's standard error \
+         (approximate: the uncertainty of sigma and the slope is not included). All in \
          `report.json` under `multilevel`.\n"
     );
     for grouping in [Grouping::Scene, Grouping::PointSet] {
@@ -204,7 +232,13 @@ fn shrunken_tables(md: &mut String, ml: &MultilevelReport) {
             for g in &groups {
                 match g.shrunken.iter().find(|s| &s.subject == name) {
                     Some(s) => {
-                        let _ = write!(md, " {:.1} [{:.1}, {:.1}] |", s.spp, s.lower, s.upper);
+                        let _ = write!(
+                            md,
+                            " {} [{}, {}] |",
+                            s.jnd.display(),
+                            s.lower.display(),
+                            s.upper.display()
+                        );
                     }
                     None => {
                         let _ = write!(md, " - |");

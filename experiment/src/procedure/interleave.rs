@@ -266,18 +266,34 @@ mod tests {
 
     #[test]
     fn a_track_that_stops_early_gives_up_its_slots() {
-        // Any posterior interval is narrower than 100 ln spp: every track stops after a trial.
+        // A width the posterior reaches after two answers, not after the first (a rule met
+        // after one answer whatever it is would stop every track there: refused, spec.rs).
         let d = adaptive(
-            r#"{"quest_plus": {"trials": 5, "stop_width": 100}}"#,
+            r#"{"quest_plus": {"trials": 5, "stop_width": 4.9}}"#,
             &[1, 8, 27],
         );
         let mut p = super::super::start(&d, "s02");
         assert_eq!(p.planned(), 20);
         let mut n = 0;
         while p.current().is_some() {
-            p.answer(true);
+            p.answer(n % 2 == 0);
             n += 1;
         }
-        assert_eq!(n, 4);
+        assert_eq!(n, 8, "4 tracks of 2 trials");
+    }
+
+    #[test]
+    fn a_stop_rule_met_after_the_first_trial_is_refused() {
+        let mut v: serde_json::Value = serde_json::from_str(crate::design::tests::SMALL).unwrap();
+        v["procedure"] = serde_json::json!({"quest_plus": {"trials": 5, "stop_width": 100}});
+        v["levels"] = serde_json::json!([1, 8, 27]);
+        let e = crate::Design::parse(std::path::Path::new("d.json"), &v.to_string())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("stop_width` is 100, but the 95% interval")
+                && e.contains("every track would stop after one trial"),
+            "{e}"
+        );
     }
 }

@@ -130,33 +130,70 @@ impl Default for QuestPlusSpec {
 }
 
 impl QuestPlusSpec {
+    /// A stop rule met after the first trial whatever its answer stops every track there, while
+    /// the design reads as `trials` per track (issue 42: `stop_width: 1e308` ran one trial a
+    /// track and `simulate` announced 96): refused.
+    fn check_stop_after_one(&self, w: f64, levels: &[u32]) -> Result<()> {
+        use super::interleave::Track;
+        let width = |q: &super::quest_plus::QuestPlus| {
+            let (_, lo, hi) = q.ln_threshold();
+            hi - lo
+        };
+        let prior = super::quest_plus::QuestPlus::new(levels, self);
+        let first = prior.level();
+        let after = [true, false].map(|correct| {
+            let mut q = prior.clone();
+            q.update(first, correct);
+            width(&q)
+        });
+        let widest = after[0].max(after[1]);
+        if widest < w {
+            bail!(
+                "field `procedure.quest_plus.stop_width` is {}, but the 95% interval of ln \
+                 threshold is at most {widest:.3} wide after the first trial (the prior's is \
+                 {:.3}), so every track would stop after one trial; expected a width below \
+                 {widest:.3} (0.5 is a factor 1.65 between the interval's ends)",
+                renderer::limits::shortest(w),
+                width(&prior)
+            );
+        }
+        Ok(())
+    }
+
     fn validate(&self, levels: &[u32]) -> Result<()> {
         if !(0.0..0.25).contains(&self.lapse) {
             bail!(
                 "field `procedure.quest_plus.lapse` is {}; expected 0 <= lapse < 0.25",
-                self.lapse
+                renderer::limits::shortest(self.lapse)
             );
         }
         if let Some(w) = self.stop_width
             && !(w.is_finite() && w > 0.0)
         {
-            bail!("field `procedure.quest_plus.stop_width` is {w}; expected a width > 0 in ln spp");
+            bail!(
+                "field `procedure.quest_plus.stop_width` is {}; expected a width > 0 in ln spp",
+                renderer::limits::shortest(w)
+            );
         }
+
         let s = &self.slope;
         if !(s.median.is_finite() && s.median > 0.0 && s.median <= 100.0) {
             bail!(
                 "field `procedure.quest_plus.slope.median` is {}; expected 0 < slope <= 100",
-                s.median
+                renderer::limits::shortest(s.median)
             );
         }
         if !(s.sd_ln.is_finite() && (0.0..=3.0).contains(&s.sd_ln)) {
             bail!(
                 "field `procedure.quest_plus.slope.sd_ln` is {}; expected 0 to 3",
-                s.sd_ln
+                renderer::limits::shortest(s.sd_ln)
             );
         }
         if let Some(t) = &self.threshold {
             t.validate(levels)?;
+        }
+        if let Some(w) = self.stop_width {
+            self.check_stop_after_one(w, levels)?;
         }
         Ok(())
     }
@@ -243,15 +280,16 @@ impl StaircaseSpec {
         if !(self.step.is_finite() && (0.05..=8.0).contains(&self.step)) {
             bail!(
                 "field `procedure.staircase.step` is {}; expected 0.05 to 8 level indices",
-                self.step
+                renderer::limits::shortest(self.step)
             );
         }
         if let StairRule::Weighted { target } = self.rule
             && !(target.is_finite() && 0.5 < target && target < 0.95)
         {
             bail!(
-                "field `procedure.staircase.rule.weighted.target` is {target}; expected a \
-                 proportion correct between 0.5 and 0.95"
+                "field `procedure.staircase.rule.weighted.target` is {}; expected a \
+                 proportion correct between 0.5 and 0.95",
+                renderer::limits::shortest(target)
             );
         }
         Ok(())

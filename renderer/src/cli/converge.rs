@@ -43,7 +43,8 @@ pub struct ConvergeArgs {
     #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
     pub height: Option<u32>,
     /// Master seed of the levels (the reference's is derived from it).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::limits::parse_seed,
+          allow_hyphen_values = true)]
     pub seed: u64,
     /// A pixel differs when a channel is more than this many levels (of 255) off.
     #[arg(long, default_value_t = 32)]

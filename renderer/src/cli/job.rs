@@ -1,7 +1,7 @@
 //! `render job <job.json | job.job>`: render a stimulus set (or one shard of it), finalize it, estimate
 //! it, or write a Slurm job-array script for it.
 
-use crate::job::slurm::{SlurmOptions, script};
+use crate::job::slurm::{SlurmOptions, emitted_message, script};
 use crate::job::{Finalize, Job, RunOptions, Shard};
 use crate::progress::terminal::{Look, Terminal};
 use anyhow::{Context, Result, bail};
@@ -39,8 +39,10 @@ pub struct JobArgs {
     /// Number of array tasks (shards) for --emit-slurm.
     #[arg(long, default_value_t = 16)]
     pub shards: u32,
-    /// CPUs per array task for --emit-slurm.
-    #[arg(long, default_value_t = 4)]
+    /// CPUs per array task for --emit-slurm: a node must have at least this many, or Slurm
+    /// keeps the tasks pending (the stimuli do not depend on it).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=4096),
+          allow_hyphen_values = true)]
     pub cpus_per_task: u32,
     /// Hide the progress bar.
     #[arg(long)]
@@ -128,23 +130,14 @@ fn emit_slurm(job: &Job, args: &JobArgs, path: &Path) -> Result<()> {
         command.push("render".into()); // the umbrella binary: `blurlab render job ...`
     }
     let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
-    let text = script(
-        &job.name,
-        &abs(&args.job),
-        &abs(&args.out),
-        &SlurmOptions {
-            command,
-            shards: args.shards,
-            cpus_per_task: args.cpus_per_task,
-            time_limit_seconds: (2.0 * per_task).ceil() as u64 + 600,
-        },
-    );
+    let options = SlurmOptions {
+        command,
+        shards: args.shards,
+        cpus_per_task: args.cpus_per_task,
+        time_limit_seconds: (2.0 * per_task).ceil() as u64 + 600,
+    };
+    let text = script(&job.name, &abs(&args.job), &abs(&args.out), &options);
     crate::atomic::write_atomic(path, text.as_bytes())?;
-    println!(
-        "wrote {} ({} array tasks); submit with: sbatch {}",
-        path.display(),
-        args.shards,
-        path.display()
-    );
+    println!("{}", emitted_message(path, &options));
     Ok(())
 }

@@ -24,7 +24,8 @@ pub struct PointsetsArgs {
     #[arg(long, default_value_t = 125)]
     pub n: u32,
     /// Seed of the set; the same seed gives the same points.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::limits::parse_seed,
+          allow_hyphen_values = true)]
     pub seed: u64,
     /// Make a product set of n/K positions x K times (scene setting `density: {"temporal": K}`).
     #[arg(long, value_name = "K")]

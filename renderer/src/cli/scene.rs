@@ -35,7 +35,8 @@ pub struct SceneArgs {
     #[arg(long)]
     pub exr: bool,
     /// Master seed of the samplers' random choices.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::limits::parse_seed,
+          allow_hyphen_values = true)]
     pub seed: u64,
     /// Image width in pixels (default: the scene's).
     #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]

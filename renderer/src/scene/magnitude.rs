@@ -16,10 +16,14 @@ pub(super) fn check(f: &SceneFile) -> Result<(), (String, String)> {
     let time = (s.start_time as f64).abs().max(end.abs());
     // The times first: a `frame_time` of 3e38 would otherwise be blamed on the first velocity.
     if time > MAX_MAGNITUDE {
+        // Blame the factor that is out of range alone: `frames: 4294967295` of 0.04 s each is
+        // the frame count's fault, a frame_time of 3e38 the frame time's.
         let field = if (s.start_time as f64).abs() > MAX_MAGNITUDE {
             "settings.start_time"
-        } else {
+        } else if (s.frame_time as f64).abs() > MAX_MAGNITUDE {
             "settings.frame_time"
+        } else {
+            "settings.frames"
         };
         return Err((
             field.to_string(),
