@@ -104,16 +104,18 @@ fn the_model_is_in_the_report_with_its_comparisons_and_tost() {
 fn all_correct_subjects_give_out_of_range_jnds_and_no_nan() {
     let mut obs = Vec::new();
     for s in 0..5 {
-        for level in [1, 8, 27, 64] {
-            for _ in 0..4 {
-                obs.push(Observation {
-                    subject: format!("s{s}"),
-                    scene: "perfect".into(),
-                    point_set: "halton".into(),
-                    time_filter: "box".into(),
-                    level,
-                    correct: true,
-                });
+        for point_set in ["halton", "sobol"] {
+            for level in [1, 8, 27, 64] {
+                for _ in 0..4 {
+                    obs.push(Observation {
+                        subject: format!("s{s}"),
+                        scene: "perfect".into(),
+                        point_set: point_set.into(),
+                        time_filter: "box".into(),
+                        level,
+                        correct: true,
+                    });
+                }
             }
         }
     }
@@ -133,6 +135,15 @@ fn all_correct_subjects_give_out_of_range_jnds_and_no_nan() {
     analysis::output::write(&report, dir.path()).unwrap();
     let json = std::fs::read_to_string(dir.path().join("report.json")).unwrap();
     assert!(!json.contains("NaN"));
+    // The TOST section says what became of the one pair (issue 42: a header and no row).
+    let md = std::fs::read_to_string(dir.path().join("report.md")).unwrap();
+    let tost = md.split("### Equivalence").nth(1).expect("a TOST section");
+    let tost = tost.split("###").next().unwrap();
+    assert!(
+        tost.contains("| point_set | halton vs sobol |") || tost.contains("No pair to test"),
+        "{tost}"
+    );
+    assert!(!md.contains("15625"), "{md}");
 }
 
 /// The quick version of `examples/multilevel_coverage.rs` (docs/benchmarks/multilevel.md):

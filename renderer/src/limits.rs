@@ -137,6 +137,11 @@ pub fn parse_seed(s: &str) -> Result<u64, String> {
     }
 }
 
+/// clap value parser of `--cpus-per-task`: 1 to 4096 CPUs.
+pub fn parse_cpus(s: &str) -> Result<u32, String> {
+    whole(s, 1, 4096, "CPUs per task")
+}
+
 /// clap value parser of a subject count (`simulate --subjects`, each of `plan --subjects`).
 pub fn parse_subjects(s: &str) -> Result<usize, String> {
     whole(s, 1, MAX_SUBJECTS as u64, "subjects")

@@ -41,7 +41,7 @@ pub struct JobArgs {
     pub shards: u32,
     /// CPUs per array task for --emit-slurm: a node must have at least this many, or Slurm
     /// keeps the tasks pending (the stimuli do not depend on it).
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=4096),
+    #[arg(long, default_value_t = 4, value_parser = crate::limits::parse_cpus,
           allow_hyphen_values = true)]
     pub cpus_per_task: u32,
     /// Hide the progress bar.
