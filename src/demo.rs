@@ -99,7 +99,8 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         out: Some(out.join("predict")),
         sensitivity: analysis::predict::decision::DEFAULT_K,
         distance_m: None,
-        decision: analysis::predict::command::Decision::Difference,
+        // None: the stage the demo design's layout calls for (side by side).
+        decision: None,
         calibrate: Vec::new(),
         no_progress: args.no_progress,
     })?;

@@ -19,7 +19,7 @@ fn q_with(playback: serde_json::Value) -> Vec<f64> {
     let settings = PredictSettings {
         display: Default::default(),
         k: 1.0,
-        comparison: Default::default(),
+        stage: analysis::predict::stage::Stage::for_layout(Some(design.file.layout)),
     };
     let p = predict(&study.stimuli_dir, Some(&design), &settings, &NoProgress).unwrap();
     p.stimuli.iter().map(|s| s.row.q).collect()

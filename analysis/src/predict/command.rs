@@ -5,6 +5,7 @@
 use super::calibrate::{Calibration, calibrate, cells, markdown};
 use super::decision::DEFAULT_K;
 use super::output::{Files, write};
+use super::stage::Stage;
 use super::stimuli::{PredictSettings, Prediction, predict, with_k};
 use crate::data::Dataset;
 use anyhow::{Result, bail};
@@ -167,11 +168,12 @@ pub struct PredictArgs {
     #[arg(long, value_parser = renderer::limits::real(0.0, 1000.0, true, "a viewing distance in metres"),
           allow_hyphen_values = true)]
     pub distance_m: Option<f64>,
-    /// How the observer compares test and reference: `difference` (T - R at each place, as
-    /// fitted to ModelFest) or `side-by-side` (each video's local contrast energy compared, as
-    /// the suite's trials show the pair; opt-in, not validated: docs/predict.md).
-    #[arg(long, value_enum, default_value_t = Decision::Difference)]
-    pub decision: Decision,
+    /// How the observer compares test and reference: `side-by-side` (how noisy each video
+    /// looks, with masking and Weber-like discrimination) or `difference` (T - R at each
+    /// place: an overlay or flicker comparison) [default: as the design's layout shows the
+    /// pairs: side by side; docs/predict.md].
+    #[arg(long, value_enum)]
+    pub decision: Option<Decision>,
     /// Fit k to these sessions (folders or logs) by maximum likelihood, report the
     /// leave-one-condition-out error, and write the prediction with the fitted k.
     #[arg(long, num_args = 1..)]
@@ -215,7 +217,10 @@ pub fn run(args: &PredictArgs) -> Result<Outcome> {
     let settings = PredictSettings {
         display: display_spec(design.as_ref(), args.distance_m),
         k: args.sensitivity,
-        comparison: args.decision.into(),
+        stage: match args.decision {
+            Some(d) => Stage::given(d.into()),
+            None => Stage::for_layout(design.as_ref().map(|d| d.file.layout)),
+        },
     };
     let bar = Terminal::new(Look::Steps, !args.no_progress);
     let mut prediction = predict(&args.stimuli, design.as_ref(), &settings, &bar)?;

@@ -9,10 +9,12 @@
 //! | `temporal` | sustained and transient channels as filters over looped frames |
 //! | `bands` | 2D FFT, octave bands, CSF weighting |
 //! | `masking` | threshold elevation by the reference's contrast |
+//! | `transducer` | the side-by-side stage's discrimination of suprathreshold contrast (Weber-like) |
 //! | `pooling` | Minkowski pooling over channels, space and time, the aperture (fitted) |
 //! | `shape` | the CSF's shape and oblique effect as ModelFest's observers have them (fitted) |
 //! | `video` | the model on one test/reference pair, frame by frame |
 //! | `explain` | where the aperture lands in a pair's frames and what is there (a diagnostic) |
+//! | `stage` | which decision stage a design's layout calls for, and why |
 //! | `decision` | proportion correct from d': the two-pair task and 2IFC (with simulations) |
 //! | `stimuli` | a whole stimulus set: rows of `predicted.csv`, JNDs per condition |
 //! | `frames` | a video's JNDs from predictions of single frames spread over it |
@@ -39,7 +41,9 @@ pub mod output;
 pub mod pooling;
 pub mod preflight;
 pub mod shape;
+pub mod stage;
 pub mod stimuli;
 pub mod temporal;
+pub mod transducer;
 pub mod validate;
 pub mod video;

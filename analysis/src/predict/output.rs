@@ -138,6 +138,7 @@ fn markdown_text(p: &Prediction) -> String {
          white {peak} cd/m^2, black {black} cd/m^2; sensitivity constant k = {k}. \
          {n} test stimuli, {frames} frame pairs compared in {wall:.1} s ({per:.1} ms of thread \
          time per frame pair). Model: `docs/predict.md`.\n\n\
+         Decision stage: `{stage}`, because {reason}.\n\n\
          ## Predicted JND per condition (p = {target})\n\n{table}\n\
          Files: `predicted.csv` (format blurlab-predicted/1, per stimulus), `predicted_jnd.csv` \
          (per condition), `figures/predicted_<scene>.svg|png`.\n",
@@ -151,6 +152,8 @@ fn markdown_text(p: &Prediction) -> String {
         peak = d.peak_cd_m2,
         black = d.black_cd_m2,
         k = p.k,
+        stage = p.stage.name(),
+        reason = p.stage.reason,
         n = p.stimuli.len(),
         wall = p.wall_seconds,
         per = 1e3 * cpu / frames.max(1) as f64,

@@ -10,7 +10,8 @@
 use super::decision::two_pair_p_correct;
 use super::display::Display;
 use super::pooling::{FITTED, Grid, Placement, video_q};
-use super::video::{Comparison, Filters, Viewing, frame_differences};
+use super::stage::Stage;
+use super::video::{Filters, Viewing, frame_differences};
 use crate::jnd::Threshold;
 use anyhow::{Context, Result, bail};
 use experiment::Design;
@@ -32,8 +33,8 @@ pub struct PredictSettings {
     pub display: DisplaySpec,
     /// Sensitivity constant: d' = k Q.
     pub k: f64,
-    /// How test and reference are compared (the difference, as fitted, by default).
-    pub comparison: Comparison,
+    /// How test and reference are compared, and why ([`Stage::for_layout`] by default).
+    pub stage: Stage,
 }
 
 /// One test stimulus's prediction.
@@ -76,6 +77,8 @@ pub struct Prediction {
     pub display: DisplaySpec,
     pub pixels_per_degree: f64,
     pub k: f64,
+    /// The decision stage that ran and why.
+    pub stage: Stage,
     pub stimuli: Vec<StimulusPrediction>,
     pub conditions: Vec<ConditionPrediction>,
     pub wall_seconds: f64,
@@ -203,6 +206,7 @@ pub fn predict(
         display: s.display.clone(),
         pixels_per_degree: display.pixels_per_degree,
         k: s.k,
+        stage: s.stage.clone(),
         stimuli,
         conditions,
         wall_seconds: t0.elapsed().as_secs_f64(),
@@ -242,7 +246,7 @@ fn predict_pair(
         mean_luminance: mean.max(super::video::ADAPTATION_FLOOR as f64),
     };
     let mut filters = Filters::new(viewing, FITTED.channels, super::shape::FITTED)?
-        .comparing(s.comparison, FITTED.space);
+        .comparing(s.stage.comparison, FITTED.space);
     let q_frames: Vec<f64> = frame_differences(
         &mut filters,
         &Grid::one(FITTED),

@@ -24,6 +24,7 @@ use super::masking::threshold_elevation;
 use super::pooling::{ChannelSums, Grid, Placement};
 use super::shape::Shape;
 use super::temporal::{Kernel, kernel};
+use super::transducer::{knee, respond};
 use anyhow::{Result, bail};
 use rustfft::num_complex::Complex32;
 use std::collections::BTreeMap;
@@ -58,11 +59,14 @@ pub enum Comparison {
     /// blank field (the default; what the model was fitted with).
     #[default]
     Difference,
-    /// Side by side, as the suite's trials show the pair: each video's local contrast energy
-    /// (its band norm to the space exponent beta, blurred by a Gaussian of
-    /// [`ADAPTATION_SIGMA_DEG`]), and the cue |E_T - E_R| in place of D^beta
-    /// (docs/predict.md, "A side-by-side decision stage"). Against a blank reference it is the
-    /// difference's D^beta blurred, which keeps its sum over the frame.
+    /// Side by side or in sequence, as the suite's trials show the pair: each video's local
+    /// contrast amplitude a (its CSF-weighted band norm to the space exponent beta, averaged
+    /// under a Gaussian of [`ADAPTATION_SIGMA_DEG`]: a_V = (G * N_V^beta)^(1/beta)), through
+    /// the Weber-like transducer of [`super::transducer`], and the cue |R(a_T) - R(a_R)|^beta
+    /// in place of D^beta (docs/predict.md, "The side-by-side stage"). The scene's content and
+    /// the noise both raise a, so each masks the other. Against a blank reference, below the
+    /// transducer's knee, it is the difference's D^beta blurred, which keeps its sum over the
+    /// frame: detection, as fitted to ModelFest.
     SideBySide,
 }
 
@@ -76,8 +80,9 @@ pub struct Filters {
     /// beta_c, the Minkowski exponent over bands and channels ([`super::pooling`]).
     channel_exponent: f64,
     kernels: [Kernel; 2],
-    /// With [`Comparison::SideBySide`], the space exponent beta of the energies compared.
-    side_by_side: Option<f64>,
+    /// With [`Comparison::SideBySide`], the space exponent beta of the energies compared and
+    /// the transducer's knee a0.
+    side_by_side: Option<(f64, f32)>,
 }
 
 impl Filters {
@@ -148,9 +153,20 @@ impl Filters {
         })
     }
 
-    /// These filters comparing as `comparison` says, with space exponent `space` (beta).
-    pub fn comparing(mut self, comparison: Comparison, space: f64) -> Self {
-        self.side_by_side = (comparison == Comparison::SideBySide).then_some(space);
+    /// These filters comparing as `comparison` says, with space exponent `space` (beta). The
+    /// side-by-side stage's knee is the detection threshold of ModelFest's fit
+    /// ([`super::transducer::knee`] with [`super::decision::DEFAULT_K`]).
+    pub fn comparing(self, comparison: Comparison, space: f64) -> Self {
+        let d84 = super::decision::two_ifc_d_prime_for(super::modelfest::CRITERION)
+            .expect("the criterion is inside (0.5, 1)");
+        let a0 = knee(d84, super::decision::DEFAULT_K, ADAPTATION_SIGMA_DEG, space);
+        self.comparing_with_knee(comparison, space, a0)
+    }
+
+    /// As [`Filters::comparing`], with the transducer's knee `a0` given (infinite: no
+    /// compression, the local energies compared as they are).
+    pub fn comparing_with_knee(mut self, comparison: Comparison, space: f64, a0: f32) -> Self {
+        self.side_by_side = (comparison == Comparison::SideBySide).then_some((space, a0));
         self
     }
 
@@ -303,7 +319,8 @@ pub fn frame_sums(
     let mut c_band = vec![Complex32::default(); pixels];
     let mut sums = ChannelSums::new(&[filters.channel_exponent], pixels);
     let (mut sustained, mut transient) = (vec![0f32; pixels], vec![0f32; pixels]);
-    // Side by side: each video's own sums, the test's contrast e + c and the reference's c.
+    // Side by side: each video's own sums, the test's contrast e + c and the reference's c,
+    // unmasked: the transducer on their local amplitudes does the masking.
     let mut own = [0, 1].map(|_| ChannelSums::new(&[filters.channel_exponent], pixels));
     for t in 0..f {
         let needed: Vec<usize> = offsets
@@ -349,6 +366,10 @@ pub fn frame_sums(
         for b in 0..filters.bands.len() {
             filters.band(&e_pack, b, &mut e_band);
             filters.band(&c_pack, b, &mut c_band);
+            if filters.side_by_side.is_some() {
+                add_videos(&mut own, &e_band, &c_band);
+                continue;
+            }
             for (((s, t), e), c) in sustained
                 .iter_mut()
                 .zip(transient.iter_mut())
@@ -358,42 +379,38 @@ pub fn frame_sums(
                 *s = e.re / threshold_elevation(c.re);
                 *t = e.im / threshold_elevation(c.im);
             }
-            if filters.side_by_side.is_some() {
-                add_videos(&mut own, &e_band, &c_band);
-            } else {
-                sums.add(&sustained, &transient);
-            }
+            sums.add(&sustained, &transient);
         }
-        if let Some(space) = filters.side_by_side {
-            side_by_side(filters, &own, space, &mut sums);
+        if let Some((space, a0)) = filters.side_by_side {
+            side_by_side(filters, &own, space, a0, &mut sums);
         }
         each(t as usize, &sums);
     }
     Ok(())
 }
 
-/// Add one band of each video, test (e + c) and reference (c), each masked by the reference.
+/// Add one band of each video, test (e + c) and reference (c), as they are.
 fn add_videos(own: &mut [ChannelSums; 2], e_band: &[Complex32], c_band: &[Complex32]) {
-    let (te, tr): (Vec<[f32; 2]>, Vec<[f32; 2]>) = e_band
+    let (ts, tt): (Vec<f32>, Vec<f32>) = e_band
         .iter()
         .zip(c_band)
-        .map(|(e, c)| {
-            let (ms, mt) = (threshold_elevation(c.re), threshold_elevation(c.im));
-            (
-                [(e.re + c.re) / ms, (e.im + c.im) / mt],
-                [c.re / ms, c.im / mt],
-            )
-        })
+        .map(|(e, c)| (e.re + c.re, e.im + c.im))
         .unzip();
-    for (sums, v) in own.iter_mut().zip([te, tr]) {
-        let (s, t): (Vec<f32>, Vec<f32>) = v.iter().map(|&[s, t]| (s, t)).unzip();
-        sums.add(&s, &t);
-    }
+    let (rs, rt): (Vec<f32>, Vec<f32>) = c_band.iter().map(|c| (c.re, c.im)).unzip();
+    own[0].add(&ts, &tt);
+    own[1].add(&rs, &rt);
 }
 
-/// The side-by-side cue into `sums`: E_V = G * N_V^beta for both videos, and sums = |E_T -
-/// E_R|^(beta_c / beta), so that the pooling's (sums)^(beta / beta_c) is |E_T - E_R|.
-fn side_by_side(filters: &mut Filters, own: &[ChannelSums; 2], space: f64, sums: &mut ChannelSums) {
+/// The side-by-side cue into `sums`: each video's local amplitude a_V = (G * N_V^beta)^(1/beta),
+/// and sums = |R(a_T) - R(a_R)|^beta_c, so that the pooling's (sums)^(beta / beta_c) is
+/// |R(a_T) - R(a_R)|^beta ([`super::transducer`], knee `a0`).
+fn side_by_side(
+    filters: &mut Filters,
+    own: &[ChannelSums; 2],
+    space: f64,
+    a0: f32,
+    sums: &mut ChannelSums,
+) {
     let r = (space / filters.channel_exponent) as f32;
     let [nt, nr] = [0, 1].map(|k| {
         own[k].sums[0]
@@ -402,14 +419,19 @@ fn side_by_side(filters: &mut Filters, own: &[ChannelSums; 2], space: f64, sums:
             .collect::<Vec<f32>>()
     });
     let e = filters.blur_pair(&nt, &nr);
+    let (inv, bc) = (1.0 / space as f32, filters.channel_exponent as f32);
+    // The blur can leave -1e-9 where the energy is 0: clamped before the root.
+    let amp = |v: f32| v.max(0.0).powf(inv);
     for (acc, z) in sums.sums[0].iter_mut().zip(&e) {
-        *acc = (z.re - z.im).abs().powf(1.0 / r);
+        let d = respond(amp(z.re), a0) - respond(amp(z.im), a0);
+        *acc = d.abs().powf(bc);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::csf::sensitivity;
+    use super::super::masking::EPSILON;
     use super::super::pooling::{FITTED, Pooling};
     use super::super::shape::{self, NONE};
     use super::*;
@@ -553,30 +575,114 @@ mod tests {
             .collect()
     }
 
-    #[test]
-    fn side_by_side_against_a_blank_field_is_the_difference() {
-        // ModelFest's case: the reference is uniform, so the reference's energy is 0 and the
-        // test's, blurred by a sum-preserving Gaussian, sums to the difference's D^beta over
-        // the frame: without an aperture the two comparisons agree (float rounding aside).
-        let gabor: Vec<f32> = (0..64 * 64)
+    /// A Gabor patch's contrast per pixel (sd 8 px, 12.6 px per cycle),
+    /// peak `c`, in the middle of the 64 x 64 field.
+    fn gabor(c: f32) -> Vec<f32> {
+        (0..64 * 64)
             .map(|i| {
                 let (x, y) = ((i % 64) as f32 - 32.0, (i / 64) as f32 - 32.0);
-                0.01 * (-(x * x + y * y) / 128.0).exp() * (0.5 * x).cos()
+                c * (-(x * x + y * y) / 128.0).exp() * (0.5 * x).cos()
             })
-            .collect();
+            .collect()
+    }
+
+    /// Q of a static pair as [`static_q`], the side-by-side stage with knee `a0`.
+    fn knee_q(test: &[f32], reference: &[f32], a0: f32, e: Pooling) -> f64 {
+        let v = viewing(2);
+        let mut filters = Filters::new(v, e.channels, NONE)
+            .unwrap()
+            .comparing_with_knee(Comparison::SideBySide, e.space, a0);
+        let lum = |c: &[f32]| c.iter().map(|&c| 100.0 * (1.0 + c)).collect::<Vec<f32>>();
+        let q = frame_differences(&mut filters, &Grid::one(e), Placement::Centre, |_| {
+            Ok((lum(test), lum(reference)))
+        })
+        .unwrap();
+        super::super::pooling::video_q(&q.iter().map(|f| f[0]).collect::<Vec<_>>(), e.space)
+    }
+
+    #[test]
+    fn side_by_side_against_a_blank_field_is_detection() {
+        // ModelFest's case: the reference is uniform, so its amplitude is 0 and R(0) = 0. The
+        // test's energy, blurred by a sum-preserving Gaussian of sd sigma, is at most
+        // Q^beta / (2 pi sigma^2) anywhere (transducer::knee), so while Q stays under
+        // a0 (2 pi sigma^2)^(1/beta) every local amplitude is below the knee, R is the
+        // identity and the sum over the frame is the difference's: detection exactly (float
+        // rounding aside). With the committed knee that bound is Q = d'_84 / k, ModelFest's
+        // threshold, so every ModelFest threshold is predicted as the difference stage does.
         let blank = vec![0.0; 64 * 64];
+        let area = 2.0 * PI * ADAPTATION_SIGMA_DEG.powi(2);
         for space in [2.0, 2.4, 3.0] {
             let e = Pooling {
                 channels: 2.0,
                 space,
                 aperture_deg: f64::INFINITY,
             };
-            let d = static_q(&gabor, &blank, Comparison::Difference, e);
-            let s = static_q(&gabor, &blank, Comparison::SideBySide, e);
+            let unit = static_q(&gabor(0.01), &blank, Comparison::Difference, e);
+            // Scale the Gabor so that its Q is 0.99 of the bound for a0 = 0.3.
+            let c = 0.01 * (0.99 * 0.3 * area.powf(1.0 / space) / unit) as f32;
+            let d = static_q(&gabor(c), &blank, Comparison::Difference, e);
+            let s = knee_q(&gabor(c), &blank, 0.3, e);
             assert!(
                 d > 0.0 && (s / d - 1.0).abs() < 1e-3,
                 "beta {space}: {s} vs {d}"
             );
+            // Far above the knee the transducer compresses: less than the difference.
+            let d10 = static_q(&gabor(30.0 * c), &blank, Comparison::Difference, e);
+            let s10 = knee_q(&gabor(30.0 * c), &blank, 0.3, e);
+            assert!(s10 < 0.8 * d10, "beta {space}: {s10} vs {d10}");
+        }
+        // The committed knee is ModelFest's detection threshold's bound.
+        let d84 = super::super::decision::two_ifc_d_prime_for(0.84).unwrap();
+        let a0 = knee(
+            d84,
+            super::super::decision::DEFAULT_K,
+            ADAPTATION_SIGMA_DEG,
+            2.4,
+        );
+        let q84 = d84 / super::super::decision::DEFAULT_K;
+        assert!((a0 as f64 * area.powf(1.0 / 2.4) / q84 - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn side_by_side_discriminates_a_pedestal_by_a_weber_like_law() {
+        // A field-filling grating pedestal of peak p (CSF-weighted threshold units) against
+        // the same grating 2% stronger: far above the knee the cue is R'(a) Delta a with
+        // R'(a) = (a / a0)^-eps and Delta a = 0.02 a, so Q grows as p^(1 - eps), and the
+        // increment at threshold as p^eps (Legge & Foley's rising limb, eps = 0.7). The
+        // difference stage's Q grows as p (masking by the pedestal aside).
+        let e = Pooling {
+            channels: 2.0,
+            space: 2.4,
+            aperture_deg: f64::INFINITY,
+        };
+        let s = sensitivity(4.0, 0.0, 100.0, CSF_AREA_DEG2) as f32;
+        let grating = |p: f32| -> Vec<f32> {
+            (0..64 * 64)
+                .map(|i| p / s * (2.0 * PI as f32 * 8.0 * (i % 64) as f32 / 64.0).cos())
+                .collect()
+        };
+        let q = |p: f32| knee_q(&grating(1.02 * p), &grating(p), 0.3, e);
+        let (q1, q2, q3) = (q(4.0), q(16.0), q(64.0));
+        for (lo, hi) in [(q1, q2), (q2, q3)] {
+            let slope = (hi / lo).ln() / 4f64.ln();
+            assert!(
+                (slope - (1.0 - EPSILON as f64)).abs() < 0.05,
+                "slope {slope} ({lo} -> {hi})"
+            );
+        }
+    }
+
+    #[test]
+    fn side_by_side_grows_with_the_noise_contrast() {
+        // A reference of noise at 2% against the same field stronger: more noise, more visible.
+        let e = FITTED;
+        let r = noise(3, 0.02);
+        let mut last = 0.0;
+        for f in [1.1, 1.25, 1.5, 2.0, 3.0, 4.0] {
+            let t: Vec<f32> = r.iter().map(|v| v * f).collect();
+            let q = static_q(&t, &r, Comparison::SideBySide, e);
+            assert!(q > last, "x{f}: {q} <= {last}");
+            last = q;
         }
     }
 

@@ -1,0 +1,66 @@
+//! Which decision stage a prediction runs, and why: the design's layout says how a subject sees
+//! each pair, and that says what the observer can compare. Videos side by side (the thesis's
+//! sequential layout: one pair, a gap, the other pair; or the grid: all four at once) cannot be
+//! subtracted place by place, so the observer compares how noisy each looks
+//! ([`Comparison::SideBySide`]); a test shown in place of its reference (an overlay or flicker
+//! layout, none in the suite yet) can be subtracted ([`Comparison::Difference`]). `--decision`
+//! overrides the layout.
+
+use super::video::Comparison;
+use experiment::design::Layout;
+
+/// The stage run and the reason, as the report states it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stage {
+    pub comparison: Comparison,
+    pub reason: String,
+}
+
+impl Stage {
+    /// The stage for a design's layout (`None`: no design, the thesis's trials).
+    pub fn for_layout(layout: Option<Layout>) -> Self {
+        let reason = match layout {
+            Some(Layout::Sequential) => {
+                "the design's layout is sequential: each pair's two videos side by side, \
+                 the pairs one after the other"
+            }
+            Some(Layout::Grid) => "the design's layout is a grid: all four videos side by side",
+            None => "no design: the thesis's trials, each pair's two videos side by side",
+        };
+        Self {
+            comparison: Comparison::SideBySide,
+            reason: format!("{reason}, so the observer compares how noisy each video looks"),
+        }
+    }
+
+    /// The stage the command line asked for.
+    pub fn given(comparison: Comparison) -> Self {
+        Self {
+            comparison,
+            reason: "chosen with --decision, over the design's layout".into(),
+        }
+    }
+
+    /// The stage's name as `--decision` spells it.
+    pub fn name(&self) -> &'static str {
+        match self.comparison {
+            Comparison::Difference => "difference",
+            Comparison::SideBySide => "side-by-side",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn side_by_side_layouts_get_the_side_by_side_stage() {
+        for l in [Some(Layout::Sequential), Some(Layout::Grid), None] {
+            let s = Stage::for_layout(l);
+            assert_eq!(s.comparison, Comparison::SideBySide, "{l:?}");
+            assert!(s.reason.contains("side by side"), "{}", s.reason);
+        }
+        assert_eq!(Stage::given(Comparison::Difference).name(), "difference");
+    }
+}
