@@ -2,4 +2,6 @@
 //! pipeline, which runs the three crates end to end on built-in defaults.
 
 pub mod demo;
+#[cfg(feature = "web")]
+pub mod serve;
 pub mod summary;

@@ -33,6 +33,9 @@ enum Command {
     /// simulate 12 subjects answering from the prediction,
     /// analyze, and write results/demo/.
     Demo(blurlab::demo::DemoArgs),
+    /// Run subjects' sessions in their browsers: one link per subject, logs like `run`'s.
+    #[cfg(feature = "web")]
+    Serve(blurlab::serve::ServeArgs),
 }
 
 fn demo(args: &blurlab::demo::DemoArgs) -> anyhow::Result<()> {
@@ -100,6 +103,8 @@ fn main() {
         Command::Predict(args) => predict(&args),
         Command::Plan(args) => plan(&args),
         Command::Demo(args) => demo(&args),
+        #[cfg(feature = "web")]
+        Command::Serve(args) => blurlab::serve::run(&args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -57,7 +57,8 @@ pub struct Header {
     pub seed: u64,
     /// `blurlab <version>` of the program that wrote the log.
     pub app_version: String,
-    /// `gui` for a real subject, `simulated` for an observer model.
+    /// `gui` for a subject at the lab app, `web` in a browser (`blurlab serve`), `simulated` for
+    /// an observer model.
     pub mode: String,
     /// Seconds since the Unix epoch when the log was created.
     pub started_unix: f64,
@@ -80,6 +81,26 @@ pub struct Display {
     pub pixels_per_point: f32,
     /// Measured median interval between repaints, milliseconds.
     pub refresh_interval_ms: f64,
+    /// What a browser measured (`blurlab serve`); absent for the lab app.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub browser: Option<BrowserDisplay>,
+}
+
+/// A browser's display facts (`mode: "web"` logs): screen scale by the card method, viewing
+/// distance by the blind-spot method ("virtual chinrest", Li et al. 2020), pixels per degree.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct BrowserDisplay {
+    /// The browser window's inner size, device pixels.
+    pub window_px: [u32; 2],
+    /// `window.devicePixelRatio`.
+    pub device_pixel_ratio: f64,
+    /// Device pixels per millimetre on the screen (an ID-1 card, 85.60 mm, matched on screen).
+    pub px_per_mm: f64,
+    /// Eye to screen, millimetres (blind-spot method).
+    pub viewing_distance_mm: f64,
+    pub pixels_per_degree: f64,
+    pub user_agent: String,
+    pub fullscreen: bool,
 }
 
 /// Which pair of the trial, or which side of a pair.
@@ -128,6 +149,12 @@ pub struct TrialRecord {
     /// Milliseconds spent loading the trial's frames before it could start (0 when simulated).
     #[serde(default)]
     pub preload_ms: f64,
+    /// Frames shown later than their refresh (a browser's count; absent for the lab app).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub late_frames: Option<u32>,
+    /// The refresh interval the browser measured during this trial, milliseconds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refresh_interval_ms: Option<f64>,
 }
 
 impl TrialRecord {
@@ -345,6 +372,8 @@ mod tests {
             dropped_frames: 0,
             pauses: 0,
             preload_ms: 0.0,
+            late_frames: None,
+            refresh_interval_ms: None,
         }
     }
 

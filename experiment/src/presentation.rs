@@ -235,6 +235,8 @@ impl Presentation {
             dropped_frames: self.dropped,
             pauses,
             preload_ms,
+            late_frames: None,
+            refresh_interval_ms: None,
         }
     }
 }

@@ -48,12 +48,15 @@ pub struct Timing {
     pub dropped_frames: u32,
     pub pauses: u32,
     pub preload_ms: f64,
+    /// A browser's late frames and measured refresh interval (`None` in the lab app).
+    pub late_frames: Option<u32>,
+    pub refresh_interval_ms: Option<f64>,
 }
 
 /// How a session is started: what goes into the header (or the resume line).
 #[derive(Clone, Debug)]
 pub struct StartInfo {
-    /// `gui` or `simulated`.
+    /// `gui`, `web` or `simulated`.
     pub mode: String,
     pub display: Option<Display>,
     pub observer: Option<serde_json::Value>,
@@ -437,5 +440,7 @@ fn record(t: &Trial, response: u8, timing: Timing) -> TrialRecord {
         dropped_frames: timing.dropped_frames,
         pauses: timing.pauses,
         preload_ms: timing.preload_ms,
+        late_frames: timing.late_frames,
+        refresh_interval_ms: timing.refresh_interval_ms,
     }
 }

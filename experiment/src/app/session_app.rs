@@ -334,6 +334,7 @@ impl SessionApp {
                 height: screen.height,
                 pixels_per_point: screen.pixels_per_point,
                 refresh_interval_ms: self.meter.median_ms().unwrap_or(0.0),
+                browser: None,
             };
             let started_unix = std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)

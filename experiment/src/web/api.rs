@@ -1,0 +1,282 @@
+//! The routes (docs/web.md, "HTTP API"). Every handler that touches a session runs it on a
+//! blocking thread: answering syncs the log (`fsync`), which must not stall the async workers
+//! that serve everyone else.
+
+use super::error::{ApiError, UNKNOWN_LINK};
+use super::subject::Subject;
+use super::wire::{Advance, Claim, DisplayFacts};
+use super::{App, BODY_LIMIT, Entry, admin, assets, guard, tokens};
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::{ConnectInfo, DefaultBodyLimit, Path, Query, State};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Redirect, Response};
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use std::net::SocketAddr;
+use std::sync::Arc;
+
+type Shared = State<Arc<App>>;
+type Peer = ConnectInfo<SocketAddr>;
+
+pub(crate) fn router(app: Arc<App>) -> Router {
+    Router::new()
+        .route("/s/{token}", get(page))
+        .route("/assets/{name}", get(asset))
+        .route("/join/{token}", get(join))
+        .route("/api/s/{token}/claim", post(claim))
+        .route("/api/s/{token}/state", get(state))
+        .route("/api/s/{token}/display", post(display))
+        .route("/api/s/{token}/advance", post(advance))
+        .route("/api/s/{token}/answer", post(answer))
+        .route("/api/s/{token}/frame/{handle}/{n}", get(frame))
+        .route("/admin", get(admin::page))
+        .route("/admin/progress.json", get(admin::progress))
+        .fallback(not_found)
+        .layer(DefaultBodyLimit::max(BODY_LIMIT))
+        .layer(axum::middleware::from_fn(guard::headers))
+        .with_state(app)
+}
+
+async fn not_found() -> ApiError {
+    ApiError::not_found("no such page")
+}
+
+/// The subject behind `token`, after the rate limits: unknown links count against the client's
+/// address, known ones against the link.
+fn lookup(app: &App, token: &str, peer: SocketAddr) -> Result<Arc<Entry>, ApiError> {
+    let ip = peer.ip().to_string();
+    if !app.per_address.has(&ip) {
+        return Err(too_many());
+    }
+    let found = tokens::looks_like_token(token)
+        .then(|| {
+            app.by_token
+                .read()
+                .unwrap_or_else(|e| e.into_inner())
+                .get(token)
+                .cloned()
+        })
+        .flatten();
+    match found {
+        Some(e) if app.per_link.take(token) => Ok(e),
+        Some(_) => Err(too_many()),
+        None => {
+            app.per_address.take(&ip);
+            Err(ApiError::not_found(UNKNOWN_LINK))
+        }
+    }
+}
+
+fn too_many() -> ApiError {
+    ApiError::new(
+        StatusCode::TOO_MANY_REQUESTS,
+        "too many requests; wait a few seconds and try again",
+    )
+}
+
+/// A JSON body of type `T`, or a 413/400 naming what is wrong.
+fn parse<T: DeserializeOwned>(body: Result<Bytes, BytesRejection>) -> Result<T, ApiError> {
+    let body = body.map_err(|e| {
+        if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::new(
+                StatusCode::PAYLOAD_TOO_LARGE,
+                format!("the request body is larger than {BODY_LIMIT} bytes"),
+            )
+        } else {
+            ApiError::bad_request(format!("cannot read the request body: {e}"))
+        }
+    })?;
+    let de = &mut serde_json::Deserializer::from_slice(&body);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        ApiError::bad_request(if path == "." {
+            format!("the request body is not the JSON expected: {inner}")
+        } else {
+            format!("field `{path}`: {inner}")
+        })
+    })
+}
+
+/// Run `f` on the subject, on a blocking thread; reply with its value as JSON.
+async fn with_subject<T: Serialize + Send + 'static>(
+    app: Arc<App>,
+    entry: Arc<Entry>,
+    f: impl FnOnce(&App, &mut Subject) -> Result<T, ApiError> + Send + 'static,
+) -> Result<Response, ApiError> {
+    let out = tokio::task::spawn_blocking(move || {
+        let mut s = entry.subject.lock().unwrap_or_else(|e| e.into_inner());
+        f(&app, &mut s)
+    })
+    .await
+    .map_err(|e| ApiError::internal(&anyhow::anyhow!("{e}")))??;
+    Ok(Json(out).into_response())
+}
+
+async fn page(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+) -> Result<Response, ApiError> {
+    lookup(&app, &token, peer)?;
+    Ok((
+        [(header::CONTENT_TYPE, "text/html; charset=utf-8")],
+        assets::INDEX_HTML,
+    )
+        .into_response())
+}
+
+async fn asset(Path(name): Path<String>) -> Result<Response, ApiError> {
+    let a = assets::asset(&name).ok_or_else(|| ApiError::not_found("no such file"))?;
+    Ok(([(header::CONTENT_TYPE, a.mime)], a.body).into_response())
+}
+
+/// Open enrolment: a new subject and a redirect to their link.
+async fn join(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+) -> Result<Response, ApiError> {
+    let ip = peer.ip().to_string();
+    if !app.per_address.has(&ip) {
+        return Err(too_many());
+    }
+    let app2 = app.clone();
+    let made = tokio::task::spawn_blocking(move || -> Result<String, ApiError> {
+        let mut t = app2.tokens.lock().unwrap_or_else(|e| e.into_inner());
+        let Some(open) = t.open.clone() else {
+            return Err(ApiError::not_found(UNKNOWN_LINK));
+        };
+        if !tokens::same_secret(&open.token, &token) {
+            return Err(ApiError::not_found(UNKNOWN_LINK));
+        }
+        let have = t.count_with_prefix("o");
+        if have >= open.cap {
+            return Err(ApiError::new(
+                StatusCode::GONE,
+                "this study is full; thank you for your interest",
+            ));
+        }
+        let s = t
+            .add(format!("o{:03}", have + 1))
+            .map_err(|e| ApiError::internal(&e))?;
+        // The subject exists once tokens.json says so: a restart keeps their link.
+        if let Err(e) = t.save(&app2.out) {
+            t.subjects.pop();
+            return Err(ApiError::internal(&e));
+        }
+        app2.insert(&s.subject, &s.token);
+        Ok(s.token)
+    })
+    .await
+    .map_err(|e| ApiError::internal(&anyhow::anyhow!("{e}")))?;
+    match made {
+        Ok(t) => Ok(Redirect::to(&format!("/s/{t}")).into_response()),
+        Err(e) => {
+            if e.status == StatusCode::NOT_FOUND {
+                app.per_address.take(&ip);
+            }
+            Err(e)
+        }
+    }
+}
+
+async fn claim(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let entry = lookup(&app, &token, peer)?;
+    let c: Claim = parse(body)?;
+    with_subject(app, entry, move |app, s| s.claim(&app.study, &c.tab)).await
+}
+
+#[derive(serde::Deserialize)]
+struct TabQuery {
+    tab: Option<String>,
+}
+
+async fn state(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+    q: Result<Query<TabQuery>, axum::extract::rejection::QueryRejection>,
+) -> Result<Response, ApiError> {
+    let entry = lookup(&app, &token, peer)?;
+    let tab = q
+        .ok()
+        .and_then(|Query(q)| q.tab)
+        .ok_or_else(|| ApiError::bad_request("query `tab`: expected ?tab=<this tab's id>"))?;
+    with_subject(app, entry, move |app, s| s.get_state(&app.study, &tab)).await
+}
+
+async fn display(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let entry = lookup(&app, &token, peer)?;
+    let d: DisplayFacts = parse(body)?;
+    with_subject(app, entry, move |app, s| s.display(&app.study, &d)).await
+}
+
+async fn advance(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let entry = lookup(&app, &token, peer)?;
+    let a: Advance = parse(body)?;
+    with_subject(app, entry, move |app, s| {
+        s.advance(&app.study, &a.tab, &a.from)
+    })
+    .await
+}
+
+async fn answer(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let entry = lookup(&app, &token, peer)?;
+    let a: super::wire::Answer = parse(body)?;
+    with_subject(app, entry, move |app, s| s.answer(&app.study, &a)).await
+}
+
+/// Frame `n` of the video behind `handle`: the stimulus PNG file's bytes, unchanged. The file is
+/// one the manifest lists for the current trial; nothing in the request becomes a path.
+async fn frame(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path((token, handle, n)): Path<(String, String, String)>,
+) -> Result<Response, ApiError> {
+    let entry = lookup(&app, &token, peer)?;
+    let gone =
+        || ApiError::not_found("no such frame: the trial has moved on or the address is wrong");
+    let frames = tokens::looks_like_token(&handle)
+        .then(|| {
+            entry
+                .handles
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .get(&handle)
+                .cloned()
+        })
+        .flatten()
+        .ok_or_else(gone)?;
+    let n: usize = n.parse().map_err(|_| gone())?;
+    let path = frames.get(n).ok_or_else(gone)?;
+    let bytes = tokio::fs::read(path).await.map_err(|e| {
+        ApiError::internal(&anyhow::anyhow!(
+            "a stimulus frame cannot be read ({e}); tell the experimenter"
+        ))
+    })?;
+    Ok(([(header::CONTENT_TYPE, "image/png")], bytes).into_response())
+}

@@ -1,0 +1,208 @@
+//! `blurlab serve`: subject sessions in browsers (issue 39). The server runs each subject's
+//! [`crate::Session`] over a synced log, exactly as the lab app does, and writes the same
+//! `blurlab-session/1` log (`mode: "web"`); the browser shows what the server chose, through
+//! opaque per-trial frame handles, and reports what the subject pressed. See `docs/web.md`.
+
+mod admin;
+mod api;
+pub mod assets;
+pub mod error;
+pub mod guard;
+pub mod study;
+pub mod subject;
+pub mod tokens;
+pub mod wire;
+
+use crate::design::Design;
+use anyhow::{Context, Result};
+use std::collections::HashMap;
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, RwLock};
+use study::Study;
+use subject::Subject;
+use tokens::Tokens;
+
+/// Largest request body the API reads (an answer with a few thousand frame times fits easily).
+pub const BODY_LIMIT: usize = 256 * 1024;
+
+/// What `blurlab serve` is asked to do.
+#[derive(Clone, Debug)]
+pub struct Config {
+    pub design: PathBuf,
+    /// The study's folder: `sessions/`, `links.csv`, `web/tokens.json`.
+    pub out: PathBuf,
+    pub addr: SocketAddr,
+    /// Make sure this many subject links exist (`w001`...), and write `links.csv`.
+    pub enrol: Option<u32>,
+    /// Open enrolment: `/join/{token}` creates subjects (`o001`...) up to this many.
+    pub open_enrolment: Option<u32>,
+    /// The URL subjects reach the server at (behind a proxy: its public https URL); default
+    /// `http://ADDR`.
+    pub base_url: Option<String>,
+}
+
+/// What a started server tells its operator.
+#[derive(Clone, Debug)]
+pub struct Started {
+    pub addr: SocketAddr,
+    pub base_url: String,
+    pub admin_url: String,
+    pub admin_token: String,
+    pub links_csv: Option<PathBuf>,
+    pub join_url: Option<String>,
+    pub subjects: usize,
+    pub sessions_dir: PathBuf,
+}
+
+/// One subject as the server holds them.
+#[derive(Debug)]
+pub(crate) struct Entry {
+    pub subject: Mutex<Subject>,
+    pub handles: subject::Handles,
+}
+
+/// Everything the handlers share.
+#[derive(Debug)]
+pub(crate) struct App {
+    pub study: Study,
+    pub out: PathBuf,
+    pub sessions_dir: PathBuf,
+    pub by_token: RwLock<HashMap<String, Arc<Entry>>>,
+    pub tokens: Mutex<Tokens>,
+    pub per_link: guard::Limiter,
+    pub per_address: guard::Limiter,
+}
+
+impl App {
+    fn insert(&self, name: &str, token: &str) {
+        let s = Subject::new(name, &self.sessions_dir);
+        let entry = Entry {
+            handles: s.handles.clone(),
+            subject: Mutex::new(s),
+        };
+        self.by_token
+            .write()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(token.to_string(), Arc::new(entry));
+    }
+}
+
+/// A server bound to its address, ready to run.
+pub struct Server {
+    listener: tokio::net::TcpListener,
+    app: Arc<App>,
+    pub started: Started,
+}
+
+impl Server {
+    /// Load the design and its stimuli, the tokens (creating and enrolling as asked), and bind.
+    pub async fn bind(config: &Config) -> Result<Self> {
+        let design = Design::load(&config.design)?;
+        let study = Study::load(design)?;
+        let sessions_dir = config.out.join("sessions");
+        std::fs::create_dir_all(&sessions_dir)
+            .with_context(|| format!("cannot create folder {}", sessions_dir.display()))?;
+        let mut tokens = Tokens::load_or_new(&config.out)?;
+        if let Some(n) = config.enrol {
+            renderer::limits::check_count(
+                "--enrol",
+                n as u64,
+                1,
+                renderer::limits::MAX_SUBJECTS as u64,
+            )?;
+            tokens.enrol("w", n)?;
+        }
+        match config.open_enrolment {
+            Some(cap) => match &mut tokens.open {
+                Some(o) => o.cap = cap,
+                None => {
+                    tokens.open = Some(tokens::OpenEnrolment {
+                        token: tokens::new_token()?,
+                        cap,
+                    })
+                }
+            },
+            None => tokens.open = None,
+        }
+        tokens.save(&config.out)?;
+        let listener = tokio::net::TcpListener::bind(config.addr)
+            .await
+            .with_context(|| format!("cannot listen on {}", config.addr))?;
+        let addr = listener.local_addr()?;
+        let base_url = config
+            .base_url
+            .clone()
+            .unwrap_or_else(|| format!("http://{addr}"))
+            .trim_end_matches('/')
+            .to_string();
+        let links_csv = match config.enrol {
+            Some(_) => Some(tokens.write_links(&config.out, &base_url)?),
+            None => None,
+        };
+        let started = Started {
+            addr,
+            admin_url: format!("{base_url}/admin?token={}", tokens.admin),
+            admin_token: tokens.admin.clone(),
+            links_csv,
+            join_url: tokens
+                .open
+                .as_ref()
+                .map(|o| format!("{base_url}/join/{}", o.token)),
+            subjects: tokens.subjects.len(),
+            sessions_dir: sessions_dir.clone(),
+            base_url,
+        };
+        let app = App {
+            study,
+            out: config.out.clone(),
+            sessions_dir,
+            by_token: RwLock::default(),
+            tokens: Mutex::new(tokens.clone()),
+            per_link: guard::Limiter::new(guard::PER_LINK),
+            per_address: guard::Limiter::new(guard::PER_ADDRESS_UNKNOWN),
+        };
+        for s in &tokens.subjects {
+            app.insert(&s.subject, &s.token);
+        }
+        Ok(Self {
+            listener,
+            app: Arc::new(app),
+            started,
+        })
+    }
+
+    /// Serve until `shutdown` completes.
+    pub async fn run(self, shutdown: impl Future<Output = ()> + Send + 'static) -> Result<()> {
+        let router = api::router(self.app);
+        axum::serve(
+            self.listener,
+            router.into_make_service_with_connect_info::<SocketAddr>(),
+        )
+        .with_graceful_shutdown(shutdown)
+        .await
+        .context("the HTTP server stopped")
+    }
+}
+
+/// `blurlab serve`: bind, tell `report` what started, serve until Ctrl-C.
+pub fn serve_until_interrupted(config: &Config, report: impl FnOnce(&Started)) -> Result<()> {
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the async runtime")?;
+    runtime.block_on(async {
+        let server = Server::bind(config).await?;
+        report(&server.started);
+        server
+            .run(async {
+                let _ = tokio::signal::ctrl_c().await;
+            })
+            .await
+    })
+}
+
+/// The session log of `subject` under `out`.
+pub fn log_path(out: &Path, subject: &str) -> PathBuf {
+    out.join("sessions").join(format!("{subject}.jsonl"))
+}

@@ -1,0 +1,479 @@
+//! One subject's session on the server: the [`Session`] machine over a synced [`FileLog`], the
+//! claim of the one tab that may answer, the idempotency record of acknowledged answers and the
+//! current trial's opaque frame handles. Everything here is synchronous (it writes and syncs the
+//! log): the HTTP layer calls it on tokio's blocking threads.
+
+use super::error::ApiError;
+use super::study::{Frames, Study};
+use super::tokens::new_token;
+use super::wire::{Ack, Answer, AnswerReply, DisplayFacts, Feedback, Progress, State, TrialView};
+use crate::log::{BrowserDisplay, Display, SessionLog, Side};
+use crate::log_writer::Durability;
+use crate::session::{Session, Stage, StartInfo, Timing};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// A claim lapses after this long without a call from its tab; a reload then takes over.
+pub const LEASE: Duration = Duration::from_secs(20);
+
+pub const OTHER_TAB: &str = "this session is open in another tab or window";
+
+/// The current trial's handles: `handle -> frames`. Shared with the frame route, which must not
+/// wait for a log sync to look one up.
+pub type Handles = Arc<Mutex<HashMap<String, Frames>>>;
+
+#[derive(Debug)]
+struct Lease {
+    tab: String,
+    seen: Instant,
+}
+
+/// What the admin page shows of one subject.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SubjectProgress {
+    pub subject: String,
+    pub started: bool,
+    pub finished: bool,
+    pub practice_done: usize,
+    pub done: usize,
+    pub planned: usize,
+    /// Main trials answered in this run of the server, and over how many seconds.
+    #[serde(skip)]
+    pub run_answers: u32,
+    #[serde(skip)]
+    pub run_seconds: f64,
+}
+
+#[derive(Debug)]
+pub struct Subject {
+    pub name: String,
+    log_path: PathBuf,
+    session: Option<Session>,
+    /// `start` was called in this run (header or resume line written).
+    started: bool,
+    /// Every acknowledged answer: (practice, index) -> correct.
+    answered: HashMap<(bool, u32), bool>,
+    lease: Option<Lease>,
+    /// The trial the handles belong to.
+    handles_for: Option<(bool, u32)>,
+    pub handles: Handles,
+    /// The current trial's handles as `pairs[pair - 1][left, right]`.
+    order: [[String; 2]; 2],
+    first_answer: Option<Instant>,
+    run_answers: u32,
+}
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+impl Subject {
+    pub fn new(name: &str, sessions_dir: &std::path::Path) -> Self {
+        Self {
+            name: name.to_string(),
+            log_path: sessions_dir.join(format!("{name}.jsonl")),
+            session: None,
+            started: false,
+            answered: HashMap::new(),
+            lease: None,
+            handles_for: None,
+            handles: Handles::default(),
+            order: Default::default(),
+            first_answer: None,
+            run_answers: 0,
+        }
+    }
+
+    /// Open the session (reading its log, if any) the first time it is needed.
+    fn session(&mut self, study: &Study) -> Result<&mut Session, ApiError> {
+        if self.session.is_none() {
+            let s = Session::open(&study.design, &self.name, &self.log_path, Durability::Sync)
+                .map_err(|e| ApiError::internal(&e))?;
+            if s.resumed() {
+                let log = SessionLog::read(&self.log_path).map_err(|e| ApiError::internal(&e))?;
+                if log.header.mode != "web" {
+                    return Err(ApiError::conflict(format!(
+                        "the log of this session holds a {:?} session, not a web one; ask the \
+                         experimenter",
+                        log.header.mode
+                    )));
+                }
+                for t in &log.trials {
+                    self.answered.insert((t.practice, t.index), t.correct);
+                }
+            }
+            self.session = Some(s);
+        }
+        Ok(self.session.as_mut().expect("opened above"))
+    }
+
+    /// Whether the log has a header (the subject has begun), without opening the session.
+    pub fn progress(&self, study: &Study) -> SubjectProgress {
+        let (started, finished, practice_done, done, planned) = match &self.session {
+            Some(s) => {
+                let (d, p) = s.progress();
+                (
+                    self.started || s.resumed(),
+                    s.stage() == Stage::Finished || s.is_complete(),
+                    s.practice_progress().0,
+                    d,
+                    p,
+                )
+            }
+            None => {
+                let log = SessionLog::read(&self.log_path).ok();
+                let planned = log
+                    .as_ref()
+                    .map_or(study.design.main_trial_count() as usize, |l| {
+                        l.header.trials_planned as usize
+                    });
+                let done = log.as_ref().map_or(0, |l| l.main_trials().count());
+                let practice = log
+                    .as_ref()
+                    .map_or(0, |l| l.trials.len() - l.main_trials().count());
+                (
+                    log.is_some(),
+                    log.is_some() && done >= planned,
+                    practice,
+                    done,
+                    planned,
+                )
+            }
+        };
+        SubjectProgress {
+            subject: self.name.clone(),
+            started,
+            finished,
+            practice_done,
+            done,
+            planned,
+            run_answers: self.run_answers,
+            run_seconds: self.first_answer.map_or(0.0, |t| t.elapsed().as_secs_f64()),
+        }
+    }
+
+    /// The tab `tab` may act: it holds the claim, or no live claim is held by another. A call
+    /// from the holder renews the claim.
+    fn check_tab(&mut self, tab: &str, take_over: bool) -> Result<(), ApiError> {
+        check_tab_id(tab)?;
+        let now = Instant::now();
+        match &mut self.lease {
+            Some(l) if l.tab == tab => l.seen = now,
+            Some(l) if now.duration_since(l.seen) < LEASE => {
+                return Err(ApiError::conflict(OTHER_TAB));
+            }
+            _ if take_over => {
+                self.lease = Some(Lease {
+                    tab: tab.to_string(),
+                    seen: now,
+                })
+            }
+            _ => {
+                return Err(ApiError::conflict(
+                    "this tab's claim on the session lapsed; claim it again (reload the page)",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn claim(&mut self, study: &Study, tab: &str) -> Result<State, ApiError> {
+        self.session(study)?;
+        self.check_tab(tab, true)?;
+        Ok(self.state(study))
+    }
+
+    pub fn get_state(&mut self, study: &Study, tab: &str) -> Result<State, ApiError> {
+        self.session(study)?;
+        self.check_tab(tab, false)?;
+        Ok(self.state(study))
+    }
+
+    /// Log the browser's display facts and start (or continue) the session.
+    pub fn display(&mut self, study: &Study, facts: &DisplayFacts) -> Result<State, ApiError> {
+        self.session(study)?;
+        self.check_tab(&facts.tab, false)?;
+        check_display(facts, study.min_window_px)?;
+        if !self.started {
+            let display = Display {
+                width: facts.screen_px[0],
+                height: facts.screen_px[1],
+                pixels_per_point: facts.device_pixel_ratio as f32,
+                refresh_interval_ms: facts.refresh_interval_ms,
+                browser: Some(BrowserDisplay {
+                    window_px: facts.window_px,
+                    device_pixel_ratio: facts.device_pixel_ratio,
+                    px_per_mm: facts.px_per_mm,
+                    viewing_distance_mm: facts.viewing_distance_mm,
+                    pixels_per_degree: facts.pixels_per_degree,
+                    user_agent: facts.user_agent.chars().take(400).collect(),
+                    fullscreen: facts.fullscreen,
+                }),
+            };
+            let started_unix = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0.0, |d| d.as_secs_f64());
+            let session = self.session(study)?;
+            session
+                .start(StartInfo {
+                    mode: "web".into(),
+                    display: Some(display),
+                    observer: None,
+                    started_unix,
+                })
+                .map_err(|e| ApiError::internal(&e))?;
+            self.started = true;
+        }
+        Ok(self.state(study))
+    }
+
+    /// Leave the instructions or a break. A repeat (the stage already left) changes nothing.
+    pub fn advance(&mut self, study: &Study, tab: &str, from: &str) -> Result<State, ApiError> {
+        self.session(study)?;
+        self.check_tab(tab, false)?;
+        let session = self.session.as_mut().expect("opened");
+        let here = match (from, session.stage()) {
+            ("instructions", Stage::Instructions) => true,
+            ("break", Stage::Break | Stage::PracticeDone) => true,
+            ("instructions" | "break", _) => false,
+            _ => {
+                return Err(ApiError::bad_request(format!(
+                    "field `from` is {from:?}; expected \"instructions\" or \"break\""
+                )));
+            }
+        };
+        if here && self.started {
+            session.advance();
+        }
+        Ok(self.state(study))
+    }
+
+    /// Store an answer (its log line synced) and acknowledge it; the same answer again is
+    /// acknowledged again and writes nothing.
+    pub fn answer(&mut self, study: &Study, a: &Answer) -> Result<AnswerReply, ApiError> {
+        self.session(study)?;
+        self.check_tab(&a.tab, false)?;
+        let ack = Ack {
+            session: 1,
+            practice: a.practice,
+            trial: a.trial,
+        };
+        if a.session != 1 {
+            return Err(ApiError::conflict(format!(
+                "field `session` is {}; this link has session 1 only",
+                a.session
+            )));
+        }
+        let feedback_on = study.design.file.practice.feedback;
+        let feedback = |practice: bool, correct: bool| {
+            (practice && feedback_on).then_some(Feedback { correct })
+        };
+        if let Some(&correct) = self.answered.get(&(a.practice, a.trial)) {
+            return Ok(AnswerReply {
+                ack,
+                feedback: feedback(a.practice, correct),
+                state: self.state(study),
+            });
+        }
+        let current = self
+            .session
+            .as_ref()
+            .and_then(|s| s.trial())
+            .map(|t| (t.practice, t.index));
+        if !self.started || current != Some((a.practice, a.trial)) {
+            return Err(ApiError::conflict(format!(
+                "{} trial {} is not the trial being presented; reload the state and answer the \
+                 current trial",
+                if a.practice { "practice" } else { "main" },
+                a.trial
+            )));
+        }
+        check_answer(a)?;
+        let timing = Timing {
+            rt_ms: a.rt_ms,
+            onsets_ms: a.onsets_ms.clone(),
+            frame_times_ms: a.frame_times_ms.clone(),
+            dropped_frames: a.dropped_frames,
+            pauses: 0,
+            preload_ms: a.preload_ms,
+            late_frames: Some(a.late_frames),
+            refresh_interval_ms: Some(a.refresh_interval_ms),
+        };
+        let session = self.session.as_mut().expect("opened");
+        let answered = session
+            .answer(a.response, timing)
+            .map_err(|e| ApiError::internal(&e))?;
+        self.answered
+            .insert((a.practice, a.trial), answered.correct);
+        if !a.practice {
+            self.first_answer.get_or_insert_with(Instant::now);
+            self.run_answers += 1;
+        }
+        Ok(AnswerReply {
+            ack,
+            feedback: feedback(a.practice, answered.correct),
+            state: self.state(study),
+        })
+    }
+
+    /// The state to show, with fresh handles when the trial changed.
+    fn state(&mut self, study: &Study) -> State {
+        let session = self.session.as_ref().expect("opened before state");
+        let (pd, pp) = session.practice_progress();
+        let (done, planned) = session.progress();
+        let stage = session.stage();
+        let (phase, message) = if !self.started {
+            ("display_check", None)
+        } else {
+            match stage {
+                Stage::Instructions => ("instructions", Some(study.design.instructions())),
+                Stage::Practice(_) => ("practice", None),
+                Stage::Trial(_) => ("main", None),
+                Stage::PracticeDone => (
+                    "break",
+                    Some("Practice is over. The main trials come next.".to_string()),
+                ),
+                Stage::Break => (
+                    "break",
+                    Some(format!(
+                        "Take a short break. {done} of {planned} trials done."
+                    )),
+                ),
+                Stage::Finished => (
+                    "done",
+                    Some("The session is complete. Thank you!".to_string()),
+                ),
+            }
+        };
+        let trial = if self.started {
+            session.trial().cloned()
+        } else {
+            None
+        };
+        let view = trial.map(|t| {
+            if self.handles_for != Some((t.practice, t.index)) {
+                self.new_handles(study, &t);
+            }
+            TrialView {
+                practice: t.practice,
+                index: t.index,
+                pairs: self.order.clone(),
+            }
+        });
+        State {
+            phase: phase.into(),
+            session: 1,
+            video: study.video.clone(),
+            playback: study.playback.clone(),
+            keys: study.keys.clone(),
+            min_window_px: study.min_window_px,
+            progress: Progress {
+                practice_done: pd,
+                practice_planned: pp,
+                done,
+                planned,
+            },
+            trial: view,
+            message,
+        }
+    }
+}
+
+impl Subject {
+    /// Fresh random handles for the four video places of trial `t`; the last trial's handles
+    /// stop working. A handle is 128 random bits: it says nothing of the video behind it, and
+    /// two places showing the same reference video get different handles.
+    fn new_handles(&mut self, study: &Study, t: &crate::trials::Trial) {
+        let mut map = HashMap::new();
+        let mut order: [[String; 2]; 2] = Default::default();
+        for (p, pair) in [1u8, 2].into_iter().enumerate() {
+            for (s, side) in [Side::Left, Side::Right].into_iter().enumerate() {
+                // The OS random source failing is not something a subject can act on; a
+                // handle from the thread RNG (also a CSPRNG) keeps the session going.
+                let handle = new_token().unwrap_or_else(|_| {
+                    use rand::Rng;
+                    format!("{:032x}", rand::rng().random::<u128>())
+                });
+                if let Some(frames) = study.frames(t.video(pair, side)) {
+                    map.insert(handle.clone(), frames);
+                }
+                order[p][s] = handle;
+            }
+        }
+        *lock(&self.handles) = map;
+        self.order = order;
+        self.handles_for = Some((t.practice, t.index));
+    }
+}
+
+/// A tab id is the client's random string: 1 to 64 letters, digits, `-` or `_`.
+fn check_tab_id(tab: &str) -> Result<(), ApiError> {
+    if tab.is_empty()
+        || tab.len() > 64
+        || !tab
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_')
+    {
+        return Err(ApiError::bad_request(
+            "field `tab`: expected 1 to 64 letters, digits, `-` or `_`",
+        ));
+    }
+    Ok(())
+}
+
+fn finite_nonnegative(name: &str, x: f64) -> Result<(), ApiError> {
+    if x.is_finite() && x >= 0.0 {
+        Ok(())
+    } else {
+        Err(ApiError::bad_request(format!(
+            "field `{name}` is {x}; expected a finite number >= 0"
+        )))
+    }
+}
+
+fn check_display(f: &DisplayFacts, need: [u32; 2]) -> Result<(), ApiError> {
+    for (name, x) in [
+        ("device_pixel_ratio", f.device_pixel_ratio),
+        ("px_per_mm", f.px_per_mm),
+        ("viewing_distance_mm", f.viewing_distance_mm),
+        ("pixels_per_degree", f.pixels_per_degree),
+        ("refresh_interval_ms", f.refresh_interval_ms),
+    ] {
+        finite_nonnegative(name, x)?;
+    }
+    if f.window_px[0] < need[0] || f.window_px[1] < need[1] {
+        return Err(ApiError::new(
+            axum::http::StatusCode::UNPROCESSABLE_ENTITY,
+            format!(
+                "the window is {}x{} device pixels, but a trial needs {}x{} at 1:1; use a                  larger screen or window (full screen), or a lower browser zoom",
+                f.window_px[0], f.window_px[1], need[0], need[1]
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn check_answer(a: &Answer) -> Result<(), ApiError> {
+    if a.response != 1 && a.response != 2 {
+        return Err(ApiError::bad_request(format!(
+            "field `response` is {}; expected 1 or 2",
+            a.response
+        )));
+    }
+    finite_nonnegative("rt_ms", a.rt_ms)?;
+    finite_nonnegative("refresh_interval_ms", a.refresh_interval_ms)?;
+    finite_nonnegative("preload_ms", a.preload_ms)?;
+    for (name, v) in [
+        ("onsets_ms", &a.onsets_ms),
+        ("frame_times_ms", &a.frame_times_ms),
+    ] {
+        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+            return Err(ApiError::bad_request(format!(
+                "field `{name}` holds {x}; expected finite numbers"
+            )));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,144 @@
+//! The JSON the browser and the server exchange (docs/web.md, "HTTP API"). Nothing here names a
+//! level, point set, scene, stimulus id or which pair differs: the browser sees opaque handles.
+
+use serde::{Deserialize, Serialize};
+
+/// What the browser shows now.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct State {
+    /// `display_check`, `instructions`, `practice`, `main`, `break` or `done`.
+    pub phase: String,
+    pub session: u32,
+    pub video: Video,
+    pub playback: PlaybackInfo,
+    pub keys: Keys,
+    /// Device pixels the trial needs at 1:1.
+    pub min_window_px: [u32; 2],
+    pub progress: Progress,
+    pub trial: Option<TrialView>,
+    pub message: Option<String>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Video {
+    pub width: u32,
+    pub height: u32,
+    pub fps: f64,
+    pub frames: u32,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct PlaybackInfo {
+    /// `sequential` or `simultaneous` (the design's `grid`).
+    pub layout: String,
+    pub loops: u32,
+    pub fixation_ms: u32,
+    pub gap_ms: u32,
+    pub spacing_px: u32,
+    pub background: [u8; 3],
+}
+
+/// `KeyboardEvent.key` values that answer each pair.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Keys {
+    pub pair1: Vec<String>,
+    pub pair2: Vec<String>,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Progress {
+    pub practice_done: usize,
+    pub practice_planned: usize,
+    pub done: usize,
+    pub planned: usize,
+}
+
+/// The trial to present: `pairs[p][s]` is the handle of pair `p + 1`'s left (0) or right (1)
+/// video. Pair 1 is shown first.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct TrialView {
+    pub practice: bool,
+    pub index: u32,
+    pub pairs: [[String; 2]; 2],
+}
+
+/// `POST .../claim`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Claim {
+    pub tab: String,
+}
+
+/// `POST .../advance`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Advance {
+    pub tab: String,
+    /// `instructions` or `break`.
+    pub from: String,
+}
+
+/// `POST .../display`: what the browser measured before the first trial.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct DisplayFacts {
+    pub tab: String,
+    pub screen_px: [u32; 2],
+    pub window_px: [u32; 2],
+    pub device_pixel_ratio: f64,
+    pub px_per_mm: f64,
+    pub viewing_distance_mm: f64,
+    pub pixels_per_degree: f64,
+    pub refresh_interval_ms: f64,
+    pub user_agent: String,
+    pub fullscreen: bool,
+}
+
+/// `POST .../answer`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Answer {
+    pub tab: String,
+    pub session: u32,
+    pub practice: bool,
+    pub trial: u32,
+    pub response: u8,
+    pub rt_ms: f64,
+    #[serde(default)]
+    pub onsets_ms: Vec<f64>,
+    #[serde(default)]
+    pub frame_times_ms: Vec<f64>,
+    #[serde(default)]
+    pub dropped_frames: u32,
+    #[serde(default)]
+    pub late_frames: u32,
+    #[serde(default)]
+    pub refresh_interval_ms: f64,
+    #[serde(default)]
+    pub preload_ms: f64,
+}
+
+/// Which answer an acknowledgement is for: the idempotency key (with the subject's token).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Hash)]
+pub struct Ack {
+    pub session: u32,
+    pub practice: bool,
+    pub trial: u32,
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Feedback {
+    pub correct: bool,
+}
+
+/// The reply to an answer: sent only once its log line is on disk.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct AnswerReply {
+    pub ack: Ack,
+    pub feedback: Option<Feedback>,
+    pub state: State,
+}
+
+/// Every error body.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ErrorBody {
+    pub error: String,
+}
