@@ -30,6 +30,8 @@ pub mod session;
 pub mod simulate;
 pub mod stream;
 pub mod trials;
+#[cfg(feature = "web")]
+pub mod web;
 
 #[cfg(feature = "gui")]
 pub use app::LaunchOptions;
