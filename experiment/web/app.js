@@ -1,3 +1,293 @@
-// Placeholder: the browser client (branch web-client) replaces this file.
-"use strict";
-document.getElementById("app").textContent = "The session client is not built yet.";
+// The blurlab session client: what the server chose, shown; what the subject pressed, reported.
+// The server runs the session (docs/web.md); this page follows its State: display check, then
+// instructions, practice and main trials, breaks and the end. Nothing the page receives tells the
+// level or which pair differs.
+
+import { Api, ApiError } from "./api.js";
+import {
+  blindSpotMethod,
+  cardMethod,
+  config,
+  measureRefresh,
+  pixelsPerDegree,
+} from "./calibrate.js";
+import { drawPairs, play, preload, release, tooSmall } from "./trial.js";
+import { fitCanvas, windowDevicePx } from "./stage.js";
+import { message, nextKey, setScreen, sleep } from "./ui.js";
+
+const HEARTBEAT_MS = 5000;
+const FEEDBACK_MS = 1000;
+const ELSEWHERE = "This session is open in another tab or window. Continue there, or close that " +
+  "one and reload this page after 20 seconds.";
+
+const canvas = document.getElementById("stage");
+let fullscreen = false;
+let refreshMs = null;
+let stopped = false;
+// The trial whose frames are in memory, for the read-back test hook.
+let loaded = null;
+
+/** What the page needs; the names of the missing features. */
+function browserCheck() {
+  const missing = [];
+  const c = document.createElement("canvas");
+  if (!c.getContext || !c.getContext("2d")) missing.push("canvas 2D");
+  if (typeof createImageBitmap !== "function") missing.push("createImageBitmap");
+  if (typeof requestAnimationFrame !== "function") missing.push("requestAnimationFrame");
+  if (!window.performance || typeof performance.now !== "function") missing.push("performance.now");
+  if (typeof KeyboardEvent === "undefined" || !("key" in KeyboardEvent.prototype)) {
+    missing.push("keyboard events (KeyboardEvent.key)");
+  }
+  if (typeof fetch !== "function") missing.push("fetch");
+  return missing;
+}
+
+/** This tab's id: kept across reloads of the tab (sessionStorage), new in another tab. */
+function tabId() {
+  let id = sessionStorage.getItem("blurlab-tab");
+  if (!id) {
+    const b = new Uint8Array(16);
+    crypto.getRandomValues(b);
+    id = Array.from(b, (x) => x.toString(16).padStart(2, "0")).join("");
+    sessionStorage.setItem("blurlab-tab", id);
+  }
+  return id;
+}
+
+function stop(name, title, text) {
+  stopped = true;
+  message(name, title, text);
+}
+
+/** Wait for Space; the key press is a user gesture, so full screen can be asked for here. */
+async function welcome() {
+  message(
+    "welcome",
+    "Welcome",
+    "The experiment shows short videos in full screen. Please close other programs, sit " +
+      "comfortably and keep this window in front until the end.",
+    "Press Space to continue in full screen.",
+  );
+  await nextKey([" "]);
+  try {
+    await document.documentElement.requestFullscreen({ navigationUI: "hide" });
+    fullscreen = document.fullscreenElement !== null;
+  } catch (_) {
+    fullscreen = false;
+  }
+  // Let the window settle at its new size.
+  await sleep(300);
+}
+
+/** Calibrate, check that the trial fits, post the display facts; returns the new State. */
+async function displayCheck(api, state) {
+  const pxPerMm = await cardMethod();
+  const distMm = await blindSpotMethod(canvas, pxPerMm);
+  await waitUntilFits(state);
+  refreshMs = await measureRefresh();
+  const dpr = window.devicePixelRatio || 1;
+  const facts = {
+    screen_px: [Math.round(screen.width * dpr), Math.round(screen.height * dpr)],
+    window_px: windowDevicePx(),
+    device_pixel_ratio: dpr,
+    px_per_mm: pxPerMm,
+    viewing_distance_mm: distMm,
+    pixels_per_degree: pixelsPerDegree(pxPerMm, distMm),
+    refresh_interval_ms: refreshMs,
+    user_agent: navigator.userAgent,
+    fullscreen,
+  };
+  return api.display(facts);
+}
+
+/** Stop with a message while the window is smaller than the trial at 1:1. */
+async function waitUntilFits(state) {
+  for (;;) {
+    const text = tooSmall(state);
+    if (text === null) return;
+    message("too-small", "The window is too small", text);
+    await new Promise((r) => window.addEventListener("resize", r, { once: true }));
+  }
+}
+
+async function instructions(api, state) {
+  const resumed = state.progress.done + state.progress.practice_done > 0;
+  const lead = resumed
+    ? `Welcome back. ${state.progress.done} of ${state.progress.planned} trials are done; the ` +
+      "session continues where it stopped.\n\n"
+    : "";
+  const [k1, k2] = [state.keys.pair1, state.keys.pair2].map((k) => k.map(keyName).join(" or "));
+  const text =
+    state.message ||
+    "Each trial shows two pairs of videos, one pair after the other. In one pair the two " +
+      "videos differ; in the other they are the same. Say which pair differed: press " +
+      `${k1} for the first pair, ${k2} for the second.` +
+      (state.progress.practice_planned > state.progress.practice_done
+        ? " A few practice trials come first."
+        : "");
+  message("instructions", "Instructions", lead + text, "Press Space to start.");
+  await nextKey([" "]);
+  return api.advance("instructions");
+}
+
+function keyName(k) {
+  return { ArrowLeft: "Left arrow", ArrowRight: "Right arrow", " ": "Space" }[k] || k;
+}
+
+async function breakScreen(api, state) {
+  const p = state.progress;
+  message(
+    "break",
+    "Break",
+    state.message || `${p.done} of ${p.planned} trials done. Rest your eyes as long as you like.`,
+    "Press Space to continue.",
+  );
+  await nextKey([" "]);
+  return api.advance("break");
+}
+
+/** Preload, play, take the key, post the answer until acknowledged; returns the new State. */
+async function trial(api, state) {
+  await waitUntilFits(state);
+  const t = state.trial;
+  message("preload", t.practice ? "Practice" : "Next trial", "Loading the videos…");
+  const { frames, bytes, ms } = await preload(api, t, state.video);
+  loaded = { state, frames, bytes };
+  try {
+    if (refreshMs === null) refreshMs = await measureRefresh(30);
+    setScreen("trial");
+    const timing = await play(canvas, state, frames, refreshMs);
+    const keys = [...state.keys.pair1, ...state.keys.pair2];
+    message("respond", "Which pair differed?", "", hintFor(state));
+    const e = await nextKey(keys);
+    const response = state.keys.pair1.includes(e.key) ? 1 : 2;
+    const answer = {
+      session: state.session,
+      practice: t.practice,
+      trial: t.index,
+      response,
+      rt_ms: e.timeStamp - timing.respondAt,
+      onsets_ms: timing.onsets_ms,
+      frame_times_ms: timing.frame_times_ms,
+      dropped_frames: timing.dropped_frames,
+      late_frames: timing.late_frames,
+      refresh_interval_ms: timing.refresh_interval_ms,
+      preload_ms: ms,
+    };
+    message("saving", "Saving your answer…", "");
+    const reply = await api.answer(answer);
+    if (reply.feedback) {
+      message("feedback", reply.feedback.correct ? "Correct" : "Not correct", "");
+      await sleep(FEEDBACK_MS);
+    }
+    return reply.state;
+  } finally {
+    loaded = null;
+    release(frames);
+  }
+}
+
+function hintFor(state) {
+  const k1 = state.keys.pair1.map(keyName).join(" or ");
+  const k2 = state.keys.pair2.map(keyName).join(" or ");
+  return `Press ${k1} for the first pair, ${k2} for the second.`;
+}
+
+/** Keep the claim alive (it lapses after 20 s of silence) and notice a takeover. */
+function heartbeat(api) {
+  const beat = async () => {
+    if (stopped) return;
+    try {
+      await api.state();
+    } catch (e) {
+      if (e instanceof ApiError && e.status === 409) stop("elsewhere", "Open elsewhere", ELSEWHERE);
+    }
+  };
+  setInterval(beat, HEARTBEAT_MS);
+}
+
+async function run() {
+  const token = location.pathname.split("/").filter(Boolean)[1] || "";
+  const missing = browserCheck();
+  if (missing.length > 0) {
+    stop(
+      "unsupported",
+      "This browser cannot run the session",
+      `It lacks: ${missing.join(", ")}. Please use a current Chrome, Edge, Firefox or Safari.`,
+    );
+    return;
+  }
+  const api = new Api(token, tabId(), (attempt) => {
+    document.body.dataset.retries = String(attempt);
+  });
+  let state;
+  try {
+    state = await api.claim();
+  } catch (e) {
+    if (e instanceof ApiError && e.status === 409) stop("elsewhere", "Open elsewhere", ELSEWHERE);
+    else stop("error", "The session cannot start", e.message);
+    return;
+  }
+  heartbeat(api);
+  if (state.phase !== "done") await welcome();
+  while (!stopped) {
+    try {
+      state = await step(api, state);
+    } catch (e) {
+      if (stopped) return;
+      if (e instanceof ApiError && e.status === 409 && /another tab|elsewhere/i.test(e.message)) {
+        stop("elsewhere", "Open elsewhere", ELSEWHERE);
+        return;
+      }
+      // Anything else (e.g. an answer for a trial that is no longer current): show it briefly,
+      // then follow the server's state.
+      message("error", "Something went wrong", e.message, "Continuing…");
+      await sleep(2000);
+      state = await api.state();
+    }
+  }
+}
+
+async function step(api, state) {
+  switch (state.phase) {
+    case "display_check":
+      return displayCheck(api, state);
+    case "instructions":
+      return instructions(api, state);
+    case "practice":
+    case "main":
+      return trial(api, state);
+    case "break":
+      return breakScreen(api, state);
+    case "done":
+      stop("done", "Thank you!", state.message || "All trials are done and your answers are saved.");
+      return state;
+    default:
+      throw new Error(`unknown phase ${state.phase}`);
+  }
+}
+
+// Hooks for the browser tests (tests/web_browser.rs): calibration settings, and drawing one frame
+// of the loaded trial and holding it so the canvas can be read back.
+window.blurlab = {
+  config,
+  /** Draw frame `n` of pair `pair` (1 or 2) of the loaded trial and keep it up; returns the
+   *  rectangles, the canvas size and the frame URLs (to fetch the PNG bytes). */
+  hold(pair, n) {
+    if (!loaded) return null;
+    const ctx = fitCanvas(canvas);
+    canvas.hidden = false;
+    document.getElementById("panel").hidden = true;
+    const rects = drawPairs(ctx, loaded.state, loaded.frames, [pair - 1], n);
+    setScreen("hold");
+    return {
+      rects: rects[pair - 1],
+      canvas: [canvas.width, canvas.height],
+      css: [canvas.getBoundingClientRect().width, canvas.getBoundingClientRect().height],
+      dpr: window.devicePixelRatio,
+      urls: loaded.state.trial.pairs[pair - 1].map((h) => `/api/s/${location.pathname.split("/")[2]}/frame/${h}/${n}`),
+    };
+  },
+};
+
+run().catch((e) => stop("error", "The session stopped", String(e && e.message ? e.message : e)));

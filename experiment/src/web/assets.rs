@@ -20,6 +20,31 @@ pub const ASSETS: &[Asset] = &[
         body: include_str!("../../web/app.js"),
     },
     Asset {
+        name: "api.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../../web/api.js"),
+    },
+    Asset {
+        name: "calibrate.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../../web/calibrate.js"),
+    },
+    Asset {
+        name: "stage.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../../web/stage.js"),
+    },
+    Asset {
+        name: "trial.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../../web/trial.js"),
+    },
+    Asset {
+        name: "ui.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../../web/ui.js"),
+    },
+    Asset {
         name: "style.css",
         mime: "text/css; charset=utf-8",
         body: include_str!("../../web/style.css"),
