@@ -123,7 +123,7 @@ pub struct AnalyzeArgs {
     /// Warn about main trials with more than N dropped frames (frames the display skipped:
     /// the subject did not see all of the stimulus), naming each; with --exclude-dropped
     /// leave them out. See docs/analysis.md.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32),
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=1_000_000),
           allow_hyphen_values = true)]
     pub max_dropped_frames: Option<u32>,
     /// Leave out the trials over --max-dropped-frames.
@@ -190,6 +190,9 @@ pub fn run(args: AnalyzeArgs) -> Result<()> {
         0 => String::new(),
         n => format!(", {n} excluded"),
     };
+    if !report.sessions_by_mode.is_empty() {
+        eprintln!("{}", report.sessions_line());
+    }
     eprintln!(
         "analyzed {} trials of {} subjects{excluded} ({} groups, {} t-tests) -> {}\n{}",
         report.trials,

@@ -109,6 +109,13 @@ pub fn pair(
             })
         })
         .collect::<Result<Vec<_>>>()?;
+    if frames.iter().all(|f| f.test == f.reference) {
+        bail!(
+            "{test} and {reference} of {} show the same frames; expected a pair that differs \
+             (the shares of a zero difference are 0 / 0)",
+            manifest_path.display()
+        );
+    }
     let viewing = Viewing {
         width: t.width as usize,
         height: t.height as usize,
