@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Cold builds of one commit (issue 15; BENCHMARKS.md, "Cold builds before and after"): a clone
+# Cold builds of one commit (issue 15; BENCHMARKS.md, "Tests and CI"): a clone
 # of this repository at <commit>, then each command below from an empty target folder, one
 # after another, with CPU (user + sys) and wall time written to $work/<label>.txt.
 #   bash bench/cold_builds.sh <commit> <label>      # work folder: ${BLURLAB_COLD:-/tmp/blurlab-cold}

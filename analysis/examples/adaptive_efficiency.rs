@@ -107,7 +107,7 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// The QUEST+ priors compared (docs/benchmarks/adaptive.md, "Third pass", says where each
+/// The QUEST+ priors compared (docs/benchmarks/adaptive.md, "Priors", says where each
 /// comes from). `quest`'s slope: Watson & Pelli's (1983) Weibull beta 3.5 per ln contrast for
 /// 2AFC contrast detection, halved because Monte Carlo noise's amplitude goes as spp^(-1/2), and
 /// times 4 ln 2 / 2 = 1.386 to turn a Weibull's slope at its midpoint into a logistic's: 2.43

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Shift against scramble at equal CPU time, against Mitsuba 3 (static diffuse sphere) and
-# Blender Cycles (the sphere moving during a box shutter): BENCHMARKS.md "Shift against
-# scramble", docs/benchmarks/scramble.md. Optional tooling: not part of the tests, not run by CI.
+# Blender Cycles (the sphere moving during a box shutter): BENCHMARKS.md "Peers",
+# docs/benchmarks/scramble.md. Optional tooling: not part of the tests, not run by CI.
 #
 #   bash bench/peers/scramble.sh [mitsuba|cycles|both] [options of scramble.py / scramble_cycles.py]
 #

@@ -1,6 +1,7 @@
 """The thesis's plane scene (frame 93) in Blender Cycles against the suite at equal CPU time
-(issue 30, item 4; docs/benchmarks/peers.md "The plane scene in Cycles"). Optional tooling: not
-part of the tests, not run by CI. Needs bpy (5.0.1 in a Python 3.11 venv was used) and numpy:
+(issue 30, item 4; docs/benchmarks/peers.md "The thesis's plane scene in Blender Cycles").
+Optional tooling: not part of the tests, not run by CI. Needs bpy (5.0.1 in a Python 3.11 venv
+was used) and numpy:
 
     python bench/peers/thesis_cycles.py --bin DIR_WITH_sample_cost --cache DIR [--size 192]
 

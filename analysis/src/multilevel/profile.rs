@@ -3,8 +3,8 @@
 //! The Wald interval reads the likelihood's shape from its curvature at the estimate, with the
 //! between-subject SD where the estimate left it (and left out where it sits at its bound).
 //! With the thesis's 12 subjects of 28 informative trials each, sigma is poorly located: low
-//! on average and at its bound in some data sets (`docs/benchmarks/multilevel.md`, "Sixth
-//! pass"). The profile interval lets every other parameter move: it is the set of thresholds t
+//! on average and at its bound in some data sets (`docs/benchmarks/multilevel.md`,
+//! "Results"). The profile interval lets every other parameter move: it is the set of thresholds t
 //! whose profile deviance 2 (ln L(estimate) - max over the others of ln L(t, others)) is at
 //! most q^2, q the Wald interval's Student t quantile, so that the two agree where the
 //! likelihood is quadratic.

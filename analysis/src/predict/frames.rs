@@ -22,6 +22,8 @@ use std::path::{Path, PathBuf};
 /// One frame's prediction, named for the report.
 pub struct Frame {
     pub label: String,
+    /// The file read, for messages.
+    pub file: PathBuf,
     pub table: PredictedTable,
 }
 
@@ -36,6 +38,7 @@ impl Frame {
         let table = PredictedTable::load(&file)?;
         Ok(Self {
             label: label(&file),
+            file,
             table,
         })
     }
@@ -72,13 +75,14 @@ pub struct VideoJnd {
     pub frames: usize,
 }
 
-/// Combine single-frame predictions with time exponent `beta` (>= 1).
+/// Combine single-frame predictions with time exponent `beta` (>= 1; infinity is the
+/// maximum over the frames, the Minkowski mean's limit).
 pub fn combine(frames: &[Frame], beta: f64) -> Result<Vec<VideoJnd>> {
     if frames.is_empty() {
         bail!("no frame predictions to combine");
     }
     if beta.is_nan() || beta < 1.0 {
-        bail!("the time pooling exponent is {beta}; expected a number >= 1");
+        bail!("--exponent is {beta}; expected a number >= 1 (inf: the most visible frame)");
     }
     check_one_k(frames)?;
     let mut conditions: Vec<Condition> = frames
@@ -87,10 +91,20 @@ pub fn combine(frames: &[Frame], beta: f64) -> Result<Vec<VideoJnd>> {
         .collect();
     conditions.sort();
     conditions.dedup();
-    Ok(conditions
+    conditions
         .into_iter()
         .map(|c| video_jnd(frames, c, beta))
-        .collect())
+        .collect()
+}
+
+/// The Minkowski mean of the frames' d' with exponent `beta`; its limit, the maximum, for an
+/// infinite `beta` (where `video_q`'s powers would overflow to inf / inf).
+fn pool(ds: &[f64], beta: f64) -> f64 {
+    if beta.is_infinite() {
+        ds.iter().cloned().fold(0.0, f64::max)
+    } else {
+        video_q(ds, beta)
+    }
 }
 
 /// Pooling d' across files computed with different k would pool different units.
@@ -111,7 +125,7 @@ fn check_one_k(frames: &[Frame]) -> Result<()> {
     Ok(())
 }
 
-fn video_jnd(frames: &[Frame], c: Condition, beta: f64) -> VideoJnd {
+fn video_jnd(frames: &[Frame], c: Condition, beta: f64) -> Result<VideoJnd> {
     let curves: Vec<Option<Vec<(u32, f64)>>> = frames
         .iter()
         .map(|f| {
@@ -120,24 +134,24 @@ fn video_jnd(frames: &[Frame], c: Condition, beta: f64) -> VideoJnd {
                 .map(|cv| cv.points.iter().map(|&(s, d)| (s as u32, d)).collect())
         })
         .collect();
+    check_same_levels(frames, &curves, &c)?;
     let present: Vec<&Vec<(u32, f64)>> = curves.iter().flatten().collect();
-    // Levels every frame has, with each frame's d' there.
+    // Every frame that has the condition has every level (checked above): its d' per level.
     let mut by_level: BTreeMap<u32, Vec<f64>> = BTreeMap::new();
     for curve in &present {
         for &(s, d) in curve.iter() {
             by_level.entry(s).or_default().push(d);
         }
     }
-    by_level.retain(|_, ds| ds.len() == present.len());
     let pooled: Vec<(u32, f64)> = by_level
         .iter()
-        .map(|(&s, ds)| (s, video_q(ds, beta)))
+        .map(|(&s, ds)| (s, pool(ds, beta)))
         .collect();
     let most: Vec<(u32, f64)> = by_level
         .iter()
         .map(|(&s, ds)| (s, ds.iter().cloned().fold(0.0, f64::max)))
         .collect();
-    VideoJnd {
+    Ok(VideoJnd {
         per_frame: curves
             .iter()
             .map(|cv| cv.as_deref().map(threshold))
@@ -146,7 +160,36 @@ fn video_jnd(frames: &[Frame], c: Condition, beta: f64) -> VideoJnd {
         most_visible: threshold(&most),
         frames: present.len(),
         condition: c,
+    })
+}
+
+/// A level one frame predicts and another (with the same condition) lacks would be pooled over
+/// fewer frames than the rest, or, dropped, would cut the curve where its JND may lie: refuse
+/// it, naming the frame and the row it lacks.
+fn check_same_levels(
+    frames: &[Frame],
+    curves: &[Option<Vec<(u32, f64)>>],
+    c: &Condition,
+) -> Result<()> {
+    let levels = |cv: &Vec<(u32, f64)>| cv.iter().map(|&(s, _)| s).collect::<Vec<u32>>();
+    let with: Vec<(&Frame, Vec<u32>)> = frames
+        .iter()
+        .zip(curves)
+        .filter_map(|(f, cv)| cv.as_ref().map(|cv| (f, levels(cv))))
+        .collect();
+    for (f, own) in &with {
+        for (g, other) in &with {
+            if let Some(missing) = other.iter().find(|s| !own.contains(s)) {
+                bail!(
+                    "{}: condition {c} has no row at {missing} spp, which {} has; every frame \
+                     must predict the same levels (predict that frame's stimulus set again)",
+                    f.file.display(),
+                    g.file.display()
+                );
+            }
+        }
     }
+    Ok(())
 }
 
 /// The table: one row per condition, a column per frame, then the pooled and the most
@@ -217,6 +260,7 @@ mod tests {
             .collect();
         Frame {
             label: label.into(),
+            file: PathBuf::from(format!("{label}.csv")),
             table: PredictedTable::from_rows(rows),
         }
     }
@@ -277,6 +321,37 @@ mod tests {
         assert!(err.to_string().contains("--sensitivity"), "{err}");
         assert!(combine(&[frame("a", 8.0, PointSetKind::Random)], 0.5).is_err());
         assert!(combine(&[], 2.8).is_err());
+    }
+
+    #[test]
+    fn a_level_missing_from_one_frame_is_refused_and_named() {
+        let mut b = frame("b", 8.0, PointSetKind::Random);
+        b.table = PredictedTable::from_rows(
+            b.table
+                .rows
+                .iter()
+                .filter(|r| r.spp != 27)
+                .cloned()
+                .collect(),
+        );
+        let err = combine(&[frame("a", 8.0, PointSetKind::Random), b], 2.8).unwrap_err();
+        let msg = err.to_string();
+        assert!(msg.starts_with("b.csv: "), "{msg}");
+        assert!(msg.contains("no row at 27 spp, which a.csv has"), "{msg}");
+    }
+
+    #[test]
+    fn an_infinite_exponent_pools_to_the_most_visible_frame() {
+        let f = [
+            frame("a", 8.0, PointSetKind::Random),
+            frame("b", 2.0, PointSetKind::Random),
+        ];
+        let j = &combine(&f, f64::INFINITY).unwrap()[0];
+        assert_eq!(j.pooled, j.most_visible);
+        assert!((spp(&j.pooled) - 14.463).abs() < 0.01, "{j:?}");
+        // And a large finite exponent approaches it from below.
+        let big = &combine(&f, 64.0).unwrap()[0];
+        assert!(spp(&big.pooled) < spp(&j.pooled) && spp(&big.pooled) > 0.9 * spp(&j.pooled));
     }
 
     #[test]

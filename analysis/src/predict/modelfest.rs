@@ -33,6 +33,11 @@ pub const FPS: f64 = 30.0;
 pub const VIDEO_SECONDS: f64 = 1.0;
 /// ModelFest's threshold criterion, proportion correct in 2IFC.
 pub const CRITERION: f64 = 0.84;
+/// Side of every ModelFest stimulus, pixels (256 px at 120 px/deg: 2.13 deg). The model's
+/// viewing assumes it: another size would be another experiment.
+pub const SIDE: usize = 256;
+/// Leave-one-out needs at least two stimuli.
+const MIN_STIMULI: usize = 2;
 /// The peak contrast the pipeline is run at (Q is linear in it; any small value gives the same
 /// sensitivity).
 const PROBE_CONTRAST: f64 = 0.01;
@@ -84,6 +89,14 @@ pub fn load(dir: &Path) -> Result<Vec<Stimulus>> {
             index.display()
         )
     })?;
+    if entries.len() < MIN_STIMULI {
+        bail!(
+            "{}: {} stimuli; expected at least {MIN_STIMULI} (the fit's leave-one-out error \
+             leaves each out in turn)",
+            index.display(),
+            entries.len()
+        );
+    }
     let thresholds = read_thresholds(&dir.join("thresholds.csv"))?;
     entries
         .into_iter()
@@ -127,6 +140,15 @@ fn read_thresholds(path: &Path) -> Result<BTreeMap<u32, Vec<f64>>> {
                 i + 2
             )
         })?;
+        if !row.log10_sensitivity.is_finite() {
+            bail!(
+                "{} line {}: field `log10_sensitivity` is {}; expected a finite number \
+                 (log10 of 1 / the threshold's peak contrast)",
+                path.display(),
+                i + 2,
+                row.log10_sensitivity
+            );
+        }
         out.entry(row.stimulus)
             .or_default()
             .push(row.log10_sensitivity);
@@ -134,18 +156,38 @@ fn read_thresholds(path: &Path) -> Result<BTreeMap<u32, Vec<f64>>> {
     Ok(out)
 }
 
-/// A 16-bit grey PNG as contrast c = 2 v / 65535 - 1, scaled to peak |c| = 1.
+/// A 16-bit grey PNG of [`SIDE`] x [`SIDE`] as contrast c = 2 v / 65535 - 1, scaled to peak
+/// |c| = 1.
 fn read_contrast(path: &Path) -> Result<(usize, usize, Vec<f32>)> {
     let img = image::open(path)
-        .with_context(|| format!("cannot read the stimulus image {}", path.display()))?
-        .into_luma16();
+        .with_context(|| format!("cannot read the stimulus image {}", path.display()))?;
     let (w, h) = (img.width() as usize, img.height() as usize);
+    if (w, h) != (SIDE, SIDE) {
+        bail!(
+            "{}: the stimulus is {w} x {h} pixels; expected {SIDE} x {SIDE} (ModelFest's \
+             images, shown at {PIXELS_PER_DEGREE} pixels per degree)",
+            path.display()
+        );
+    }
+    let color = img.color();
+    if color != image::ColorType::L16 {
+        bail!(
+            "{}: the stimulus has {} channel(s) of {} bits; expected a 16-bit grey PNG \
+             (ModelFest's contrast images)",
+            path.display(),
+            color.channel_count(),
+            color.bits_per_pixel() / color.channel_count() as u16
+        );
+    }
+    let img = img.into_luma16();
     let c: Vec<f64> = img
         .pixels()
         .map(|p| 2.0 * p.0[0] as f64 / 65535.0 - 1.0)
         .collect();
     let peak = c.iter().fold(0f64, |m, v| m.max(v.abs()));
-    if peak == 0.0 {
+    // The background, c = 0, lies between the 16-bit codes 32767 and 32768 (|c| = 1/65535
+    // either side): a stimulus no pixel of which is further from it is blank.
+    if peak <= 1.5 / 65535.0 {
         bail!(
             "{}: the stimulus is blank (every pixel at the background)",
             path.display()
@@ -289,6 +331,119 @@ mod tests {
         for (p, q) in params.iter().zip(&fast) {
             let slow = response_by_frames(&s, p.pooling, p.shape).unwrap();
             assert!((q / slow - 1.0).abs() < 1e-3, "{p:?}: {q} vs {slow}");
+        }
+    }
+
+    /// A data set of `n` copies of stimulus 1's image (or `image`) with one threshold each.
+    fn data_set(
+        n: usize,
+        image: Option<image::DynamicImage>,
+        threshold: &str,
+    ) -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("stimuli")).unwrap();
+        let gabor = || {
+            image::ImageBuffer::from_fn(SIDE as u32, SIDE as u32, |x, y| {
+                let r2 = (x as f64 - 128.0).powi(2) + (y as f64 - 128.0).powi(2);
+                let c = (-r2 / 800.0).exp() * (x as f64 * 0.3).cos();
+                image::Luma([(32767.5 + 32767.0 * c).round() as u16])
+            })
+        };
+        let img = image.unwrap_or_else(|| image::DynamicImage::ImageLuma16(gabor()));
+        let mut entries = Vec::new();
+        let mut csv = String::from("stimulus,name,observer,repeat,log10_sensitivity\n");
+        for k in 1..=n {
+            let file = format!("stimuli/{k:02}_T{k}.png");
+            img.save(dir.path().join(&file)).unwrap();
+            entries.push(serde_json::json!({"number": k, "name": format!("T{k}"), "file": file}));
+            csv += &format!("{k},T{k},abc,1,{threshold}\n");
+        }
+        let json = serde_json::to_string(&entries).unwrap();
+        std::fs::write(dir.path().join("stimuli.json"), json).unwrap();
+        std::fs::write(dir.path().join("thresholds.csv"), csv).unwrap();
+        dir
+    }
+
+    fn load_err(dir: &tempfile::TempDir) -> String {
+        format!("{:#}", load(dir.path()).unwrap_err())
+    }
+
+    #[test]
+    fn a_well_formed_data_set_loads() {
+        let dir = data_set(2, None, "1.5");
+        let s = load(dir.path()).unwrap();
+        assert_eq!((s.len(), s[0].width, s[1].measured), (2, SIDE, 1.5));
+    }
+
+    #[test]
+    fn a_wrong_size_or_depth_is_refused_naming_the_file() {
+        let big = image::DynamicImage::ImageLuma16(image::ImageBuffer::from_pixel(
+            512,
+            512,
+            image::Luma([40000u16]),
+        ));
+        let e = load_err(&data_set(2, Some(big), "1.5"));
+        assert!(
+            e.contains("01_T1.png: the stimulus is 512 x 512 pixels; expected 256 x 256"),
+            "{e}"
+        );
+        let tiny = image::DynamicImage::ImageLuma16(image::ImageBuffer::from_pixel(
+            1,
+            1,
+            image::Luma([0u16]),
+        ));
+        assert!(load_err(&data_set(2, Some(tiny), "1.5")).contains("is 1 x 1 pixels"));
+        let eight = image::DynamicImage::ImageLuma8(image::ImageBuffer::from_pixel(
+            256,
+            256,
+            image::Luma([200u8]),
+        ));
+        let e = load_err(&data_set(2, Some(eight), "1.5"));
+        assert!(
+            e.contains(
+                "01_T1.png: the stimulus has 1 channel(s) of 8 bits; expected a 16-bit grey PNG"
+            ),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_blank_16_bit_stimulus_is_refused() {
+        // Both codes next to the background are blank; one code further is not.
+        for v in [32767u16, 32768] {
+            let flat = image::DynamicImage::ImageLuma16(image::ImageBuffer::from_pixel(
+                256,
+                256,
+                image::Luma([v]),
+            ));
+            let e = load_err(&data_set(2, Some(flat), "1.5"));
+            assert!(e.contains("01_T1.png: the stimulus is blank"), "{v}: {e}");
+        }
+        let mut faint = image::ImageBuffer::from_pixel(256, 256, image::Luma([32768u16]));
+        faint.put_pixel(5, 5, image::Luma([32770u16]));
+        let dir = data_set(2, Some(image::DynamicImage::ImageLuma16(faint)), "1.5");
+        assert!(load(dir.path()).is_ok());
+    }
+
+    #[test]
+    fn a_threshold_not_finite_is_refused_with_its_line() {
+        for t in ["NaN", "inf", "-inf"] {
+            let e = load_err(&data_set(2, None, t));
+            assert!(
+                e.contains("thresholds.csv line 2: field `log10_sensitivity` is"),
+                "{t}: {e}"
+            );
+        }
+    }
+
+    #[test]
+    fn fewer_than_two_stimuli_are_refused_naming_the_index() {
+        for n in [0, 1] {
+            let e = load_err(&data_set(n, None, "1.5"));
+            assert!(
+                e.contains(&format!("stimuli.json: {n} stimuli; expected at least 2")),
+                "{e}"
+            );
         }
     }
 

@@ -3,8 +3,9 @@
 //! Why: in the thesis's plane scene most camera rays see only the sky, yet each went through
 //! the scalar path to find that out (the top level's ray set-up, the airliner's pose, the ray
 //! moved into object space, the mesh BVH's own set-up and root test), part of the 15% of a
-//! sample's time `World::intersect_cached` took (`perf`, docs/benchmarks/lanes.md "Third
-//! pass"). Eight rays against one box in lanes cost a few instructions per ray.
+//! sample's time `World::intersect_cached` took (`perf`, lanes3; `git show
+//! 1615eed:docs/benchmarks/lanes.md`). Eight rays against one box in lanes cost a few
+//! instructions per ray.
 //!
 //! Bit identity: a culled lane is one the scalar path answers with no hit, so its radiance is
 //! the environment's, looked up as before. The box is the union of the instances' padded

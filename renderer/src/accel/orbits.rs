@@ -122,7 +122,7 @@ pub(crate) struct Orbits {
 /// heads. One per camera packet, shared by its shadow and mirror rays, and made ready for the
 /// next packet by [`Centres::reset`] rather than made anew: its cells are 3.4 kB, and zeroing
 /// them per packet was a `memset` of 266 M instructions in the spheres scene's frame 100 at
-/// 1 spp (`docs/benchmarks/lanes.md`, "Eighth pass, spheres").
+/// 1 spp (spin8; `git show 1615eed:docs/benchmarks/lanes.md`).
 pub(crate) struct Centres<'a> {
     orbits: &'a Orbits,
     time: Lane,

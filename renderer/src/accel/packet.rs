@@ -56,7 +56,7 @@ pub type Lane = wide::f32x8;
 /// the top-level BVH (which skips most of them) wins even against a packet. The thesis's
 /// spheres scene, 22 instances (20 of them orbiting in 3 groups), takes 0.73x the time and
 /// 0.93x the instructions in packets, mirror bounces included, that it takes through the top
-/// level (`docs/benchmarks/lanes.md`, "Sixth pass, spheres"); larger worlds were not measured.
+/// level (measured at spin6, commit 1615eed's `docs/benchmarks/lanes.md`); larger worlds were not measured.
 pub const MAX_INSTANCES: usize = 24;
 
 /// The packet form of a world of at most [`MAX_INSTANCES`] spheres and planes.

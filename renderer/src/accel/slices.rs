@@ -16,7 +16,7 @@
 //! are found and the nearest kept, except where two instances are hit at exactly the same `t`
 //! (the first visited wins, in this top level's order as in any other: see
 //! `accel::packet`'s ties); the thesis's films are byte-identical (`docs/benchmarks/lanes.md`,
-//! "Fifth pass").
+//! "Output bytes changed at rounding level").
 
 use super::Instance;
 use super::swept::swept_bounds;

@@ -94,7 +94,7 @@ const MAX_CALIBRATION_PIXELS: f64 = 768.0 * 768.0;
 /// less coherent than a full-size frame's (more of them straddle an edge). The earlier
 /// calibration (one 96 x 96 frame at 8 spp, all of its time counted per sample) put those into
 /// every sample: on a 384 x 384 job of both thesis scenes it estimated 94 s for a run of 32 s
-/// (`docs/benchmarks/lanes.md`, "Seventh pass, the dry run").
+/// (`docs/benchmarks/lanes.md`, "Method").
 fn calibrate(name: &str, src: &dyn FrameSource, reference: &SamplingConfig) -> Result<Calibration> {
     const HIGH_SPP: u32 = 8;
     let setup = src.setup();

@@ -15,7 +15,7 @@
 //! family's tests measure the largest error against f64 over the inputs the renderer gives it
 //! and bound it: `ln` 1.17 ulp (bound 2), `acos` 1.20 ulp (2), `atan2` 3.10 ulp (4), `sin_cos`
 //! 1.55 x 2^-24 absolute on [-2 pi, 2 pi] (2; libm's f32 `sin_cos` 0.55) (`docs/benchmarks/
-//! lanes.md`, "Sixth pass, plane"). `pow_whole` is scalar: the Fresnel curve's whole powers
+//! lanes.md`, "How the scenes are traced"). `pow_whole` is scalar: the Fresnel curve's whole powers
 //! as f64 products (correctly rounded but at near-halfway cases; libm's `powf` for the rest).
 
 mod inverse_trig;
