@@ -8,6 +8,7 @@
 //! | `csf` | stelaCSF, the spatio-temporal contrast sensitivity function (cited there) |
 //! | `temporal` | sustained and transient channels as filters over looped frames |
 //! | `bands` | 2D FFT, octave bands, CSF weighting |
+//! | `local` | sum-preserving Gaussian local means on a coarse grid (the side-by-side stage's neighbourhood) |
 //! | `masking` | threshold elevation by the reference's contrast |
 //! | `transducer` | the side-by-side stage's discrimination of suprathreshold contrast (Weber-like) |
 //! | `pooling` | Minkowski pooling over channels, space and time, the aperture (fitted) |
@@ -35,6 +36,7 @@ pub mod decision;
 pub mod display;
 pub mod explain;
 pub mod frames;
+pub mod local;
 pub mod masking;
 pub mod modelfest;
 pub mod output;

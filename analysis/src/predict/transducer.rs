@@ -23,8 +23,8 @@
 //! Below a0 it is the identity, so against a blank field (a_reference = 0) the stage is
 //! detection, as fitted to ModelFest. The knee a0 is not a new free parameter: it is the local
 //! amplitude of a field-filling pattern at its detection threshold ([`knee`]), where Legge &
-//! Foley's masking functions leave the detection threshold (the rising limb extrapolates
-//! through threshold-contrast pedestal, threshold increment). Not modelled: the dipper
+//! Foley's masking functions leave the detection threshold (their rising limb extrapolates
+//! through a threshold-contrast pedestal with a threshold increment). Not modelled: the dipper
 //! (facilitation by pedestals near threshold), which would need an accelerating transducer
 //! below a0 and so break the reduction to detection.
 
@@ -39,14 +39,16 @@ pub fn respond(a: f32, a0: f32) -> f32 {
     a0 * (1.0 + ((a / a0).powf(e) - 1.0) / e)
 }
 
-/// The knee a0: the local amplitude of a pattern filling the neighbourhood at its detection
-/// threshold, d'_84 / (k (2 pi sigma^2)^(1 / beta)). The stage's local energy is the pixels'
-/// D^beta under a sum-preserving Gaussian of sd sigma (deg), so a pattern whose pooled Q is
-/// Q_84 = d'_84 / k has a local amplitude of at most Q_84 / (2 pi sigma^2)^(1 / beta): a
-/// field-filling pattern reaches it, a smaller one stays below. `k` the sensitivity constant,
-/// `d84` the d' at ModelFest's criterion, `beta` the space exponent.
-pub fn knee(d84: f64, k: f64, sigma_deg: f64, beta: f64) -> f32 {
-    let area = 2.0 * std::f64::consts::PI * sigma_deg * sigma_deg;
+/// The knee a0: the local amplitude of a pattern filling the field at its detection
+/// threshold, a0 = (d'_84 / k) (beta / (2 pi s^2))^(1/beta). A uniform field of local
+/// amplitude a under the pooling's Gaussian aperture of sd s (deg) pools to
+/// Q^beta = a^beta 2 pi s^2 / beta, so at ModelFest's threshold Q = d'_84 / k its a is a0; a
+/// smaller pattern at threshold has a smaller local amplitude (the stage's local mean has
+/// the aperture's sd, and for a centred disc the ratio a^beta / Q^beta grows with the disc to
+/// the uniform field's). `k` the sensitivity constant, `d84` the d' at ModelFest's
+/// criterion, `beta` the space exponent.
+pub fn knee(d84: f64, k: f64, aperture_deg: f64, beta: f64) -> f32 {
+    let area = 2.0 * std::f64::consts::PI * aperture_deg * aperture_deg / beta;
     (d84 / (k * area.powf(1.0 / beta))) as f32
 }
 

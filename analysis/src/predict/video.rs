@@ -20,11 +20,12 @@
 
 use super::bands::{Fft2, band_centres, frequencies, radial_frequencies, window};
 use super::csf::{SUSTAINED, TRANSIENT, spatial, sustained_response, transient_response};
-use super::masking::threshold_elevation;
+use super::local::LocalMean;
+use super::masking::{EPSILON, threshold_elevation};
 use super::pooling::{ChannelSums, Grid, Placement};
 use super::shape::Shape;
 use super::temporal::{Kernel, kernel};
-use super::transducer::{knee, respond};
+use super::transducer::knee;
 use anyhow::{Result, bail};
 use rustfft::num_complex::Complex32;
 use std::collections::BTreeMap;
@@ -83,6 +84,8 @@ pub struct Filters {
     /// With [`Comparison::SideBySide`], the space exponent beta of the energies compared and
     /// the transducer's knee a0.
     side_by_side: Option<(f64, f32)>,
+    /// The side-by-side stage's local means.
+    local: Option<LocalMean>,
 }
 
 impl Filters {
@@ -150,6 +153,7 @@ impl Filters {
                 kernel(transient_response, v.frames, v.fps),
             ],
             side_by_side: None,
+            local: None,
         })
     }
 
@@ -159,7 +163,12 @@ impl Filters {
     pub fn comparing(self, comparison: Comparison, space: f64) -> Self {
         let d84 = super::decision::two_ifc_d_prime_for(super::modelfest::CRITERION)
             .expect("the criterion is inside (0.5, 1)");
-        let a0 = knee(d84, super::decision::DEFAULT_K, ADAPTATION_SIGMA_DEG, space);
+        let a0 = knee(
+            d84,
+            super::decision::DEFAULT_K,
+            super::pooling::FITTED.aperture_deg,
+            space,
+        );
         self.comparing_with_knee(comparison, space, a0)
     }
 
@@ -167,6 +176,10 @@ impl Filters {
     /// compression, the local energies compared as they are).
     pub fn comparing_with_knee(mut self, comparison: Comparison, space: f64, a0: f32) -> Self {
         self.side_by_side = (comparison == Comparison::SideBySide).then_some((space, a0));
+        let v = self.viewing;
+        self.local = self
+            .side_by_side
+            .map(|_| LocalMean::new(v.width, v.height, v.pixels_per_degree, ADAPTATION_SIGMA_DEG));
         self
     }
 
@@ -366,8 +379,8 @@ pub fn frame_sums(
         for b in 0..filters.bands.len() {
             filters.band(&e_pack, b, &mut e_band);
             filters.band(&c_pack, b, &mut c_band);
-            if filters.side_by_side.is_some() {
-                add_videos(&mut own, &e_band, &c_band);
+            if let Some((space, a0)) = filters.side_by_side {
+                add_videos(filters, &mut own, &e_band, &c_band, space, a0);
                 continue;
             }
             for (((s, t), e), c) in sustained
@@ -381,36 +394,70 @@ pub fn frame_sums(
             }
             sums.add(&sustained, &transient);
         }
-        if let Some((space, a0)) = filters.side_by_side {
-            side_by_side(filters, &own, space, a0, &mut sums);
+        if let Some((space, _)) = filters.side_by_side {
+            side_by_side(filters, &own, space, &mut sums);
         }
         each(t as usize, &sums);
     }
     Ok(())
 }
 
-/// Add one band of each video, test (e + c) and reference (c), as they are.
-fn add_videos(own: &mut [ChannelSums; 2], e_band: &[Complex32], c_band: &[Complex32]) {
-    let (ts, tt): (Vec<f32>, Vec<f32>) = e_band
-        .iter()
-        .zip(c_band)
-        .map(|(e, c)| (e.re + c.re, e.im + c.im))
-        .unzip();
-    let (rs, rt): (Vec<f32>, Vec<f32>) = c_band.iter().map(|c| (c.re, c.im)).unzip();
-    own[0].add(&ts, &tt);
-    own[1].add(&rs, &rt);
-}
-
-/// The side-by-side cue into `sums`: each video's local amplitude a_V = (G * N_V^beta)^(1/beta),
-/// and sums = |R(a_T) - R(a_R)|^beta_c, so that the pooling's (sums)^(beta / beta_c) is
-/// |R(a_T) - R(a_R)|^beta ([`super::transducer`], knee `a0`).
-fn side_by_side(
+/// Add one band of each video, test (e + c) and reference (c), masked: each video's band
+/// magnitude n_V = |v_S| + |v_T| times the gain of the band's local contrast,
+/// g = R'(m) = min(1, (m / a0)^-eps) ([`super::transducer`]), with m the local amplitude of the
+/// two videos' mean band energy, m = (G * (n_T^beta + n_R^beta) / 2)^(1/beta). Both videos'
+/// noise and the scene's content in the band raise m: each masks the other.
+fn add_videos(
     filters: &mut Filters,
-    own: &[ChannelSums; 2],
+    own: &mut [ChannelSums; 2],
+    e_band: &[Complex32],
+    c_band: &[Complex32],
     space: f64,
     a0: f32,
-    sums: &mut ChannelSums,
 ) {
+    let (nt, nr): (Vec<f32>, Vec<f32>) = e_band
+        .iter()
+        .zip(c_band)
+        .map(|(e, c)| {
+            (
+                (e.re + c.re).abs() + (e.im + c.im).abs(),
+                c.re.abs() + c.im.abs(),
+            )
+        })
+        .unzip();
+    let b = space as f32;
+    let energy: Vec<f32> = nt
+        .iter()
+        .zip(&nr)
+        .map(|(t, r)| 0.5 * (t.powf(b) + r.powf(b)))
+        .collect();
+    let zero = vec![0.0; nt.len()];
+    let local = filters.local.as_mut().expect("side-by-side filters");
+    let (m, _) = local.pair(&energy, &zero);
+    let gain: Vec<f32> = m
+        .iter()
+        .map(|&m| gain(m.max(0.0).powf(1.0 / b), a0))
+        .collect();
+    for (sums, n) in own.iter_mut().zip([nt, nr]) {
+        let masked: Vec<f32> = n.iter().zip(&gain).map(|(n, g)| n * g).collect();
+        sums.add(&masked, &zero);
+    }
+}
+
+/// dR/da of [`super::transducer::respond`]: 1 up to the knee, (a / a0)^-eps above.
+fn gain(a: f32, a0: f32) -> f32 {
+    if a <= a0 {
+        1.0
+    } else {
+        (a / a0).powf(-EPSILON)
+    }
+}
+
+/// The side-by-side cue into `sums`: each video's local amplitude of its masked band norm,
+/// a_V = (G * N_V^beta)^(1/beta), and sums = |a_T - a_R|^beta_c, so that the pooling's
+/// (sums)^(beta / beta_c) is |a_T - a_R|^beta. Against a blank field below the knee, a_R = 0
+/// and a_T^beta = G * D^beta, whose sum over the frame is the difference stage's.
+fn side_by_side(filters: &mut Filters, own: &[ChannelSums; 2], space: f64, sums: &mut ChannelSums) {
     let r = (space / filters.channel_exponent) as f32;
     let [nt, nr] = [0, 1].map(|k| {
         own[k].sums[0]
@@ -418,20 +465,19 @@ fn side_by_side(
             .map(|&v| v.powf(r))
             .collect::<Vec<f32>>()
     });
-    let e = filters.blur_pair(&nt, &nr);
+    let local = filters.local.as_mut().expect("side-by-side filters");
+    let (et, er) = local.pair(&nt, &nr);
     let (inv, bc) = (1.0 / space as f32, filters.channel_exponent as f32);
-    // The blur can leave -1e-9 where the energy is 0: clamped before the root.
+    // The means can leave -1e-9 where the energy is 0: clamped before the root.
     let amp = |v: f32| v.max(0.0).powf(inv);
-    for (acc, z) in sums.sums[0].iter_mut().zip(&e) {
-        let d = respond(amp(z.re), a0) - respond(amp(z.im), a0);
-        *acc = d.abs().powf(bc);
+    for ((acc, t), r) in sums.sums[0].iter_mut().zip(&et).zip(&er) {
+        *acc = (amp(*t) - amp(*r)).abs().powf(bc);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::csf::sensitivity;
-    use super::super::masking::EPSILON;
     use super::super::pooling::{FITTED, Pooling};
     use super::super::shape::{self, NONE};
     use super::*;
@@ -631,16 +677,49 @@ mod tests {
             let s10 = knee_q(&gabor(30.0 * c), &blank, 0.3, e);
             assert!(s10 < 0.8 * d10, "beta {space}: {s10} vs {d10}");
         }
-        // The committed knee is ModelFest's detection threshold's bound.
+    }
+
+    #[test]
+    fn a_field_filling_grating_at_its_threshold_sits_at_the_knee() {
+        // The committed pooling (aperture sd 0.5 deg) and knee: a grating filling a 128 x 128
+        // field at 64 px/deg (2 deg, 4 aperture sd) scaled to ModelFest's threshold Q is seen
+        // by the side-by-side stage as by the difference stage (its local amplitude is at the
+        // knee, so R is still the identity), and 3 times stronger, less (masked by itself).
+        let v = Viewing {
+            width: 128,
+            height: 128,
+            pixels_per_degree: 64.0,
+            ..viewing(2)
+        };
+        let e = FITTED;
+        let q = |c: f32, comparison: Comparison| {
+            let mut filters = Filters::new(v, e.channels, NONE)
+                .unwrap()
+                .comparing(comparison, e.space);
+            let test: Vec<f32> = (0..128 * 128)
+                .map(|i| {
+                    let x = (i % 128) as f32 / 128.0;
+                    100.0 * (1.0 + c * (2.0 * PI as f32 * 8.0 * x).cos())
+                })
+                .collect();
+            let q = frame_differences(&mut filters, &Grid::one(e), Placement::Centre, |_| {
+                Ok((test.clone(), vec![100f32; 128 * 128]))
+            })
+            .unwrap();
+            super::super::pooling::video_q(&q.iter().map(|f| f[0]).collect::<Vec<_>>(), e.space)
+        };
         let d84 = super::super::decision::two_ifc_d_prime_for(0.84).unwrap();
-        let a0 = knee(
-            d84,
-            super::super::decision::DEFAULT_K,
-            ADAPTATION_SIGMA_DEG,
-            2.4,
-        );
         let q84 = d84 / super::super::decision::DEFAULT_K;
-        assert!((a0 as f64 * area.powf(1.0 / 2.4) / q84 - 1.0).abs() < 1e-6);
+        let c = 0.001 * (q84 / q(0.001, Comparison::Difference)) as f32;
+        let (d, s) = (q(c, Comparison::Difference), q(c, Comparison::SideBySide));
+        assert!((d / q84 - 1.0).abs() < 1e-3, "{d} vs {q84}");
+        assert!(
+            (s / d - 1.0).abs() < 0.03,
+            "side by side {s}, difference {d}"
+        );
+        let d3 = q(3.0 * c, Comparison::Difference);
+        let s3 = q(3.0 * c, Comparison::SideBySide);
+        assert!(s3 < 0.8 * d3, "{s3} vs {d3}");
     }
 
     #[test]
