@@ -99,7 +99,8 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         out: Some(out.join("predict")),
         sensitivity: analysis::predict::decision::DEFAULT_K,
         distance_m: None,
-        // None: the stage the demo design's layout calls for (side by side).
+        // None: the stage the demo design's layout gets (difference until the side-by-side
+        // stage is validated: analysis::predict::stage).
         decision: None,
         calibrate: Vec::new(),
         no_progress: args.no_progress,

@@ -5,6 +5,14 @@
 //! ([`Comparison::SideBySide`]); a test shown in place of its reference (an overlay or flicker
 //! layout, none in the suite yet) can be subtracted ([`Comparison::Difference`]). `--decision`
 //! overrides the layout.
+//!
+//! Until the side-by-side stage passes its hold-out, the layouts that call for it run
+//! `difference` and say so: on the thesis's frames at 768 x 768 the side-by-side stage puts the
+//! plane at 1-2 spp and the spheres at 14-17 spp, 6-30 times below the thesis's ~40 and
+//! ~100-125, where `difference` (fitted to ModelFest) gives 36-120 and 379-476
+//! (`docs/replication.md`, sections 3 and 4). A default that predicts further from the only
+//! human anchor would mislead every `predict`, `plan` and `demo` run; `--decision side-by-side`
+//! runs the new stage (issue 40 stays open for it).
 
 use super::video::Comparison;
 use experiment::design::Layout;
@@ -28,8 +36,13 @@ impl Stage {
             None => "no design: the thesis's trials, each pair's two videos side by side",
         };
         Self {
-            comparison: Comparison::SideBySide,
-            reason: format!("{reason}, so the observer compares how noisy each video looks"),
+            comparison: Comparison::Difference,
+            reason: format!(
+                "{reason}, which calls for the side-by-side stage; that stage is not validated \
+                 yet (its thesis hold-out lies 6-30x below the thesis's JNDs, \
+                 docs/replication.md), so the difference stage fitted to ModelFest runs \
+                 (--decision side-by-side runs the new one)"
+            ),
         }
     }
 
@@ -55,11 +68,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn side_by_side_layouts_get_the_side_by_side_stage() {
+    fn side_by_side_layouts_run_difference_until_the_new_stage_is_validated() {
         for l in [Some(Layout::Sequential), Some(Layout::Grid), None] {
             let s = Stage::for_layout(l);
-            assert_eq!(s.comparison, Comparison::SideBySide, "{l:?}");
+            assert_eq!(s.comparison, Comparison::Difference, "{l:?}");
             assert!(s.reason.contains("side by side"), "{}", s.reason);
+            assert!(s.reason.contains("not validated"), "{}", s.reason);
         }
         assert_eq!(Stage::given(Comparison::Difference).name(), "difference");
     }
