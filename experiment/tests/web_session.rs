@@ -135,6 +135,17 @@ async fn a_server_stopped_mid_session_continues_it_after_a_restart() {
     let server = Running::start(&again).await;
     let outcome = run.await.unwrap().unwrap();
     server.stop().await;
+    // An answer stored just before a crash is acknowledged after the restart, before any claim.
+    let server = Running::start(&again).await;
+    let replay = serde_json::json!({"tab": format!("tab-{subject}"), "session": 1,
+        "practice": true, "trial": 0, "response": 1, "rt_ms": 1.0});
+    let url = format!("{}/api/s/{token}/answer", server.base);
+    let r = web_client::post(&reqwest::Client::new(), &url, replay)
+        .await
+        .unwrap();
+    assert_eq!(r.status, 200, "{}", r.body);
+    assert_eq!(r.body["ack"]["trial"], 0);
+    server.stop().await;
     let log = SessionLog::read(&log_path).unwrap();
     assert_eq!(
         log.resumes.len(),

@@ -254,7 +254,7 @@ impl Subject {
     /// acknowledged again and writes nothing.
     pub fn answer(&mut self, study: &Study, a: &Answer) -> Result<AnswerReply, ApiError> {
         self.session(study)?;
-        self.check_tab(&a.tab, false)?;
+        check_tab_id(&a.tab)?;
         let ack = Ack {
             session: 1,
             practice: a.practice,
@@ -277,6 +277,10 @@ impl Subject {
                 state: self.state(study),
             });
         }
+        // Not a replay: only the tab holding the claim may answer. (A replay is acknowledged
+        // without the claim: after a server restart the claim is gone, and the browser must
+        // still learn that the answer it sent before the crash is stored.)
+        self.check_tab(&a.tab, false)?;
         let current = self
             .session
             .as_ref()

@@ -333,6 +333,8 @@ impl SimBrowser {
                         .answer(response, Timing::default())?;
                     st = reply.state;
                 }
+                // A replayed answer acknowledged by a restarted server, before any claim.
+                "display_check" => st = self.sync(&mut out).await?,
                 other => anyhow::bail!("{}: phase {other:?}", self.subject),
             }
         }
