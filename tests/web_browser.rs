@@ -143,7 +143,7 @@ impl Browser {
             "browserName": "chrome",
             "goog:chromeOptions": {"binary": CHROMIUM, "args": args},
         });
-        let caps = caps.as_object().unwrap().clone().into_iter().collect();
+        let caps: fantoccini::wd::Capabilities = caps.as_object().unwrap().clone();
         let url = format!("http://127.0.0.1:{port}");
         let t0 = Instant::now();
         let client = loop {
