@@ -53,7 +53,7 @@ fn study(root: &Path, procedure: Option<Value>) -> Study {
     });
     if let Some(p) = procedure {
         spec.design["procedure"] = p;
-        spec.levels = vec![1, 2, 4, 8];
+        spec.levels = vec![1, 8, 27];
     }
     write_study(root, &spec).expect("the fixture study renders")
 }
