@@ -54,6 +54,7 @@ fn study(root: &Path, procedure: Option<Value>) -> Study {
     if let Some(p) = procedure {
         spec.design["procedure"] = p;
         spec.levels = vec![1, 8, 27];
+        spec.reference_spp = 64;
     }
     write_study(root, &spec).expect("the fixture study renders")
 }
