@@ -158,6 +158,7 @@ async function trial(api, state) {
     setScreen("trial");
     const timing = await play(canvas, state, frames, refreshMs);
     const keys = [...state.keys.pair1, ...state.keys.pair2];
+    document.body.dataset.trial = `${t.practice ? "p" : "m"}${t.index}`;
     message("respond", "Which pair differed?", "", hintFor(state));
     const e = await nextKey(keys);
     const response = state.keys.pair1.includes(e.key) ? 1 : 2;
