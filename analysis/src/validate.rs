@@ -271,17 +271,24 @@ mod tests {
     const OBSERVER: &str = r#"{"format": "blurlab-observer/1", "name": "o", "slope": 1.5,
         "thresholds": [{"spp": 30}]}"#;
 
-    /// A simulated QUEST+ subject's log passes; a trial whose level was edited is found, and
-    /// the trials after it (whose expected level is unknown) are too.
-    #[test]
-    fn adaptive_logs_are_checked_against_the_procedure_replayed() {
+    /// DESIGN in a fresh folder with subject s01's simulated log (`s01.jsonl`) beside it.
+    fn simulated_subject() -> (tempfile::TempDir, Design) {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("design.json");
         std::fs::write(&path, DESIGN).unwrap();
         let design = Design::load(&path).unwrap();
         let observer = Observer::parse(Path::new("o.json"), OBSERVER).unwrap();
+        let log = dir.path().join("s01.jsonl");
+        experiment::simulate::simulate_subject(&design, &observer, "s01", &log).unwrap();
+        (dir, design)
+    }
+
+    /// A simulated QUEST+ subject's log passes; a trial whose level was edited is found, and
+    /// the trials after it (whose expected level is unknown) are too.
+    #[test]
+    fn adaptive_logs_are_checked_against_the_procedure_replayed() {
+        let (dir, design) = simulated_subject();
         let log_path = dir.path().join("s01.jsonl");
-        experiment::simulate::simulate_subject(&design, &observer, "s01", &log_path).unwrap();
         let log = SessionLog::read(&log_path).unwrap();
         assert_eq!(log.main_trials().count(), 20);
         assert!(check(std::slice::from_ref(&log), Some(&design), None).is_empty());
@@ -321,13 +328,8 @@ mod tests {
     /// (issue 42: it was "the design plans fewer main trials").
     #[test]
     fn a_missing_trial_of_an_adaptive_log_is_named() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("design.json");
-        std::fs::write(&path, DESIGN).unwrap();
-        let design = Design::load(&path).unwrap();
-        let observer = Observer::parse(Path::new("o.json"), OBSERVER).unwrap();
+        let (dir, design) = simulated_subject();
         let log_path = dir.path().join("s01.jsonl");
-        experiment::simulate::simulate_subject(&design, &observer, "s01", &log_path).unwrap();
         let text = std::fs::read_to_string(&log_path).unwrap();
         let mut lines: Vec<&str> = text.lines().collect();
         lines.remove(1 + 4 + 7); // main trial 7

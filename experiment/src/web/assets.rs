@@ -12,43 +12,26 @@ pub struct Asset {
 /// The page every subject link (`/s/{token}`) serves; the script reads the token from the path.
 pub const INDEX_HTML: &str = include_str!("../../web/index.html");
 
+/// One embedded file of `experiment/web/`, served under its own name.
+macro_rules! asset {
+    ($name:literal, $mime:literal) => {
+        Asset {
+            name: $name,
+            mime: $mime,
+            body: include_str!(concat!("../../web/", $name)),
+        }
+    };
+}
+
 /// Files served under `/assets/{name}`.
 pub const ASSETS: &[Asset] = &[
-    Asset {
-        name: "app.js",
-        mime: "text/javascript; charset=utf-8",
-        body: include_str!("../../web/app.js"),
-    },
-    Asset {
-        name: "api.js",
-        mime: "text/javascript; charset=utf-8",
-        body: include_str!("../../web/api.js"),
-    },
-    Asset {
-        name: "calibrate.js",
-        mime: "text/javascript; charset=utf-8",
-        body: include_str!("../../web/calibrate.js"),
-    },
-    Asset {
-        name: "stage.js",
-        mime: "text/javascript; charset=utf-8",
-        body: include_str!("../../web/stage.js"),
-    },
-    Asset {
-        name: "trial.js",
-        mime: "text/javascript; charset=utf-8",
-        body: include_str!("../../web/trial.js"),
-    },
-    Asset {
-        name: "ui.js",
-        mime: "text/javascript; charset=utf-8",
-        body: include_str!("../../web/ui.js"),
-    },
-    Asset {
-        name: "style.css",
-        mime: "text/css; charset=utf-8",
-        body: include_str!("../../web/style.css"),
-    },
+    asset!("app.js", "text/javascript; charset=utf-8"),
+    asset!("api.js", "text/javascript; charset=utf-8"),
+    asset!("calibrate.js", "text/javascript; charset=utf-8"),
+    asset!("stage.js", "text/javascript; charset=utf-8"),
+    asset!("trial.js", "text/javascript; charset=utf-8"),
+    asset!("ui.js", "text/javascript; charset=utf-8"),
+    asset!("style.css", "text/css; charset=utf-8"),
 ];
 
 /// The embedded file called `name`, if any (names are compared, never joined to a path).
