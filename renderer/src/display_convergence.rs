@@ -289,6 +289,18 @@ pub fn judge(rows: &[Row], criterion: &Criterion) -> Vec<Verdict> {
         .collect()
 }
 
+/// The rows as CSV (`render converge --csv`), written whole or not at all.
+pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<()> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.serialize(r)?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("cannot finish the CSV: {e}"))?;
+    crate::atomic::write_atomic(path, &bytes)
+}
+
 /// The rows and verdicts as a Markdown table.
 pub fn markdown(rows: &[Row], verdicts: &[Verdict], plan: &Plan) -> String {
     let mut s = format!(
