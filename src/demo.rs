@@ -99,6 +99,7 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
         out: Some(out.join("predict")),
         sensitivity: analysis::predict::decision::DEFAULT_K,
         distance_m: None,
+        viewer: None,
         // None: the stage the demo design's layout gets (difference until the side-by-side
         // stage is validated: analysis::predict::stage).
         decision: None,

@@ -13,7 +13,7 @@ use clap::{Args, Subcommand};
 use experiment::Design;
 use experiment::display::DisplaySpec;
 use renderer::progress::terminal::{Look, Terminal};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// `blurlab predict`: a stimulus set's prediction, or a validation subcommand.
 #[derive(Args, Clone, Debug)]
@@ -60,6 +60,10 @@ pub struct ExplainArgs {
     #[arg(long, value_parser = renderer::limits::real(0.0, 1000.0, true, "a viewing distance in metres"),
           allow_hyphen_values = true)]
     pub distance_m: Option<f64>,
+    /// A browser session's log (`blurlab serve`): predict at that subject's own pixels per
+    /// degree (its logged screen scale and viewing distance) instead of the design's display.
+    #[arg(long, value_name = "LOG", conflicts_with = "distance_m")]
+    pub viewer: Option<PathBuf>,
     /// Also write the table to this file (Markdown).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -68,7 +72,7 @@ pub struct ExplainArgs {
 /// Explain one pair; returns the table.
 pub fn explain(args: &ExplainArgs) -> Result<String> {
     let design = args.design.as_deref().map(Design::load).transpose()?;
-    let display = display_spec(design.as_ref(), args.distance_m);
+    let display = display_spec(design.as_ref(), args.distance_m, args.viewer.as_deref())?;
     let table = super::explain::pair(&args.stimuli, &args.test, &args.reference, &display)?;
     if let Some(out) = &args.out {
         renderer::atomic::write_atomic(out, table.as_bytes())?;
@@ -76,15 +80,23 @@ pub fn explain(args: &ExplainArgs) -> Result<String> {
     Ok(table)
 }
 
-/// The design's display block (or the default display), at `--distance-m` if given.
-fn display_spec(design: Option<&Design>, distance_m: Option<f64>) -> DisplaySpec {
+/// The design's display block (or the default display), at `--distance-m` if given, or at the
+/// geometry the `--viewer` log holds.
+fn display_spec(
+    design: Option<&Design>,
+    distance_m: Option<f64>,
+    viewer: Option<&Path>,
+) -> Result<DisplaySpec> {
     let mut d: DisplaySpec = design
         .and_then(|d| d.file.display.clone())
         .unwrap_or_default();
     if let Some(m) = distance_m {
         d.distance_m = m;
     }
-    d
+    match viewer {
+        Some(log) => super::viewer::display_for_session(log, &d),
+        None => Ok(d),
+    }
 }
 
 #[derive(Args, Clone, Debug)]
@@ -168,6 +180,10 @@ pub struct PredictArgs {
     #[arg(long, value_parser = renderer::limits::real(0.0, 1000.0, true, "a viewing distance in metres"),
           allow_hyphen_values = true)]
     pub distance_m: Option<f64>,
+    /// A browser session's log (`blurlab serve`): predict at that subject's own pixels per
+    /// degree (its logged screen scale and viewing distance) instead of the design's display.
+    #[arg(long, value_name = "LOG", conflicts_with = "distance_m")]
+    pub viewer: Option<PathBuf>,
     /// How the observer compares test and reference: `side-by-side` (how noisy each video
     /// looks, with masking and Weber-like discrimination) or `difference` (T - R at each
     /// place: an overlay or flicker comparison) [default: as the design's layout shows the
@@ -215,7 +231,7 @@ pub fn run(args: &PredictArgs) -> Result<Outcome> {
     }
     let design = args.design.as_deref().map(Design::load).transpose()?;
     let settings = PredictSettings {
-        display: display_spec(design.as_ref(), args.distance_m),
+        display: display_spec(design.as_ref(), args.distance_m, args.viewer.as_deref())?,
         k: args.sensitivity,
         stage: match args.decision {
             Some(d) => Stage::given(d.into()),
