@@ -1,7 +1,8 @@
 //! The browser client in a real browser (issue 39): headless Chromium driven through WebDriver
 //! (chromedriver, via the `fantoccini` crate) against `blurlab serve` started in this process on
-//! 127.0.0.1 at a random port. Whole sessions with key presses, calibration included, whose logs
-//! `blurlab analyze --design` then reads; the canvas read back pixel for pixel against the
+//! 127.0.0.1 at a random port. Whole sessions with key presses, calibration included (the demo
+//! design cut short, and a QUEST+ design), whose logs `blurlab analyze --design` then reads, the
+//! demo's together with a lab session of it at the app; the canvas read back pixel for pixel against the
 //! stimulus PNG at device scale 1 and 2; a reload that resumes at the next trial and a second tab
 //! that is refused.
 //!
@@ -10,6 +11,10 @@
 //! makes a missing browser a failure.
 
 use experiment::fixture::{Study, StudySpec, write_study};
+
+#[cfg(feature = "gui")]
+#[path = "support/lab.rs"]
+mod lab;
 use experiment::web::{Config, Server};
 use fantoccini::actions::{InputSource, KeyAction, KeyActions};
 use fantoccini::{Client, ClientBuilder};
@@ -289,7 +294,12 @@ fn log_lines(sessions: &Path) -> Vec<Value> {
 
 /// Check the header's browser display facts and each trial's timing, then run
 /// `blurlab analyze --design` on the sessions; returns the main trials' indices.
-fn check_log_and_analyze(study: &Study, sessions: &Path, out: &Path) -> Vec<u64> {
+fn check_log_and_analyze(
+    design: &Path,
+    frames_per_trial: usize,
+    sessions: &Path,
+    out: &Path,
+) -> Vec<u64> {
     let lines = log_lines(sessions);
     let header = &lines[0];
     assert_eq!(header["mode"], "web", "{header}");
@@ -315,29 +325,40 @@ fn check_log_and_analyze(study: &Study, sessions: &Path, out: &Path) -> Vec<u64>
     for t in lines.iter().filter(|l| l["kind"] == "trial") {
         let shown = t["frame_times_ms"].as_array().expect("frame times").len() as u64;
         let dropped = t["dropped_frames"].as_u64().unwrap();
-        // 2 pairs x 6 frames x 1 loop, each frame either shown or dropped.
-        assert_eq!(shown + dropped, 12, "{t}");
+        // Both pairs' frames over every loop, each either shown or dropped.
+        assert_eq!(shown + dropped, frames_per_trial as u64, "{t}");
         assert_eq!(t["onsets_ms"].as_array().unwrap().len(), 2, "{t}");
         assert!(t["refresh_interval_ms"].as_f64().unwrap() > 0.0, "{t}");
         if t["practice"] == false {
             main.push(t["index"].as_u64().unwrap());
         }
     }
-    let output = Command::new(env!("CARGO_BIN_EXE_blurlab"))
-        .arg("analyze")
-        .arg(sessions)
-        .arg("--design")
-        .arg(&study.design_path)
-        .arg("--out")
-        .arg(out)
-        .output()
-        .expect("blurlab runs");
+    analyze(&[sessions], design, out);
+    main
+}
+
+/// `blurlab analyze --design` on the given logs or folders; returns report.md.
+fn analyze(logs: &[&Path], design: &Path, out: &Path) -> String {
+    blurlab(
+        Command::new(env!("CARGO_BIN_EXE_blurlab"))
+            .arg("analyze")
+            .args(logs)
+            .arg("--design")
+            .arg(design)
+            .arg("--out")
+            .arg(out),
+    );
+    std::fs::read_to_string(out.join("report.md")).expect("report.md")
+}
+
+/// Run a `blurlab` command; fails the test with its stderr if it fails.
+fn blurlab(command: &mut Command) {
+    let output = command.output().expect("blurlab runs");
     assert!(
         output.status.success(),
-        "blurlab analyze --design failed:\n{}",
+        "{command:?} failed:\n{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    main
 }
 
 /// Answer "pair 1" and "pair 2" in turn.
@@ -349,13 +370,10 @@ fn alternate() -> impl FnMut(&str) -> Option<char> {
     }
 }
 
-async fn whole_session(procedure: Option<Value>) {
-    if !browser_available() {
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let study = study(dir.path(), procedure);
-    let served = serve(&study.design_path, &dir.path().join("out"), 1).await;
+/// One subject's whole browser session of the design at `design` (a server under `dir/out`),
+/// its log checked (`frames_per_trial` frames each) and analyzed; returns the sessions folder.
+async fn browser_session(design: &Path, frames_per_trial: usize, dir: &Path) -> PathBuf {
+    let served = serve(design, &dir.join("out"), 1).await;
     let b = Browser::start(1.0).await;
     b.client
         .goto(&served.links[0])
@@ -366,15 +384,102 @@ async fn whole_session(procedure: Option<Value>) {
     b.close().await;
     let sessions = served.sessions.clone();
     served.shutdown().await;
-    let main = check_log_and_analyze(&study, &sessions, &dir.path().join("report"));
+    let main = check_log_and_analyze(design, frames_per_trial, &sessions, &dir.join("report"));
     let want: Vec<u64> = (0..main.len() as u64).collect();
     assert_eq!(main, want, "every main trial once, in order");
     assert!(!main.is_empty());
+    sessions
 }
 
+/// The demo's job and design (`scenes/jobs/demo.json`, `scenes/designs/demo.json`) cut to a
+/// short session: one point set, levels 1 and 125, one repeat (4 main trials and the demo's 3
+/// practice trials), everything else (stimuli, playback, keys, layout) the demo's own.
+/// Renders its stimuli under `root` and returns the design's path.
+fn short_demo(root: &Path) -> PathBuf {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let read =
+        |p: &Path| -> Value { serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap() };
+    let mut job = read(&scenes.join("jobs/demo.json"));
+    job["scenes"] = json!([
+        scenes.join("thesis/plane.json"),
+        scenes.join("thesis/spheres.json")
+    ]);
+    job["point_sets"] = json!(["hammersley"]);
+    job["levels"] = json!([1, 125]);
+    let job_path = root.join("job.json");
+    std::fs::write(&job_path, job.to_string()).unwrap();
+    let job = renderer::job::Job::load(&job_path).unwrap();
+    let opts = renderer::job::RunOptions::new(root.join("stimuli"));
+    renderer::job::run(&job, &opts, &renderer::progress::NoProgress).expect("the demo renders");
+    let mut design = read(&scenes.join("designs/demo.json"));
+    design["manifest"] = json!("stimuli/demo/manifest.json");
+    design["factors"]["point_sets"] = json!(["hammersley"]);
+    design["levels"] = json!([1, 125]);
+    design["repeats"] = json!(1);
+    let path = root.join("demo_short.json");
+    std::fs::write(&path, design.to_string()).unwrap();
+    path
+}
+
+async fn whole_session(procedure: Option<Value>) {
+    if !browser_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let study = study(dir.path(), procedure);
+    // 2 pairs x 6 frames x 1 loop.
+    browser_session(&study.design_path, 12, dir.path()).await;
+}
+
+/// The demo design (cut short) in the browser, then the same design at the lab app: the two
+/// logs analyze together and the report counts one session of each mode; `predict --viewer`
+/// predicts at the browser subject's own pixels per degree.
+#[cfg(feature = "gui")]
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn browser_session_constant_stimuli_analyzes() {
-    whole_session(None).await;
+async fn browser_and_lab_sessions_of_the_demo_design_analyze_together() {
+    if !browser_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let design = short_demo(dir.path());
+    // 2 pairs x 6 frames x 2 loops.
+    let web = browser_session(&design, 24, dir.path()).await;
+    let lab = dir.path().join("lab");
+    std::fs::create_dir_all(&lab).unwrap();
+    lab::run(&design, "lab1", &lab.join("lab1.jsonl"));
+    let report = analyze(&[&web, &lab], &design, &dir.path().join("both"));
+    assert!(
+        report.contains("2 subjects, 8 main trials from 2 session logs")
+            && report.contains("Sessions: 1 lab (`gui`), 1 web (`blurlab serve`)."),
+        "{report}"
+    );
+    let log = std::fs::read_dir(&web)
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let ppd = log_lines(&web)[0]["display"]["browser"]["pixels_per_degree"]
+        .as_f64()
+        .unwrap();
+    let predicted = dir.path().join("predict");
+    blurlab(
+        Command::new(env!("CARGO_BIN_EXE_blurlab"))
+            .arg("predict")
+            .arg(dir.path().join("stimuli/demo"))
+            .arg("--design")
+            .arg(&design)
+            .arg("--viewer")
+            .arg(&log)
+            .arg("--out")
+            .arg(&predicted)
+            .arg("--no-progress"),
+    );
+    let md = std::fs::read_to_string(predicted.join("predict.md")).unwrap();
+    assert!(
+        md.contains(&format!("({ppd:.1} px/deg)")),
+        "ppd {ppd}:\n{md}"
+    );
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -559,7 +664,12 @@ async fn reload_resumes_at_the_next_trial_and_a_second_tab_is_refused() {
     b.close().await;
     let sessions = served.sessions.clone();
     served.shutdown().await;
-    let main = check_log_and_analyze(&study, &sessions, &dir.path().join("report"));
+    let main = check_log_and_analyze(
+        &study.design_path,
+        12,
+        &sessions,
+        &dir.path().join("report"),
+    );
     let want: Vec<u64> = (0..main.len() as u64).collect();
     assert_eq!(
         main, want,

@@ -58,6 +58,10 @@ pub struct ExplainArgs {
     #[arg(long, value_parser = renderer::limits::real(0.0, 1000.0, true, "a viewing distance in metres"),
           allow_hyphen_values = true)]
     pub distance_m: Option<f64>,
+    /// A browser session's log (`blurlab serve`): predict at that subject's own pixels per
+    /// degree (its logged screen scale and viewing distance) instead of the design's display.
+    #[arg(long, value_name = "LOG", conflicts_with = "distance_m")]
+    pub viewer: Option<PathBuf>,
     /// Also write the table to this file (Markdown).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -116,6 +120,10 @@ pub struct PredictArgs {
     #[arg(long, value_parser = renderer::limits::real(0.0, 1000.0, true, "a viewing distance in metres"),
           allow_hyphen_values = true)]
     pub distance_m: Option<f64>,
+    /// A browser session's log (`blurlab serve`): predict at that subject's own pixels per
+    /// degree (its logged screen scale and viewing distance) instead of the design's display.
+    #[arg(long, value_name = "LOG", conflicts_with = "distance_m")]
+    pub viewer: Option<PathBuf>,
     /// How the observer compares test and reference: `side-by-side` (how noisy each video
     /// looks, with masking and Weber-like discrimination) or `difference` (T - R at each
     /// place: an overlay or flicker comparison) [default: as the design's layout shows the
@@ -156,6 +164,7 @@ impl PredictArgs {
             out: self.out.clone(),
             sensitivity: self.sensitivity,
             distance_m: self.distance_m,
+            viewer: self.viewer.clone(),
             decision: self.decision.map(Comparison::from),
             calibrate: self.calibrate.clone(),
         }
@@ -171,6 +180,7 @@ impl ExplainArgs {
             reference: self.reference.clone(),
             design: self.design.clone(),
             distance_m: self.distance_m,
+            viewer: self.viewer.clone(),
             out: self.out.clone(),
         }
     }

@@ -49,3 +49,4 @@ pub mod temporal;
 pub mod transducer;
 pub mod validate;
 pub mod video;
+pub mod viewer;

@@ -30,6 +30,8 @@ pub struct ExplainOptions {
     pub design: Option<PathBuf>,
     /// Viewing distance in metres, over the design's or the default display.
     pub distance_m: Option<f64>,
+    /// A browser session's log: the display at that subject's own pixels per degree.
+    pub viewer: Option<PathBuf>,
     /// Also write the table to this file (Markdown).
     pub out: Option<PathBuf>,
 }
@@ -37,7 +39,7 @@ pub struct ExplainOptions {
 /// Explain one pair; returns the table.
 pub fn explain(args: &ExplainOptions) -> Result<String> {
     let design = args.design.as_deref().map(Design::load).transpose()?;
-    let display = display_spec(design.as_ref(), args.distance_m);
+    let display = display_spec(design.as_ref(), args.distance_m, args.viewer.as_deref())?;
     let table = super::explain::pair(&args.stimuli, &args.test, &args.reference, &display)?;
     if let Some(out) = &args.out {
         renderer::atomic::write_atomic(out, table.as_bytes())?;
@@ -45,15 +47,23 @@ pub fn explain(args: &ExplainOptions) -> Result<String> {
     Ok(table)
 }
 
-/// The design's display block (or the default display), at `distance_m` if given.
-fn display_spec(design: Option<&Design>, distance_m: Option<f64>) -> DisplaySpec {
+/// The design's display block (or the default display), at `distance_m` if given, or at the
+/// geometry the `viewer` log holds.
+fn display_spec(
+    design: Option<&Design>,
+    distance_m: Option<f64>,
+    viewer: Option<&Path>,
+) -> Result<DisplaySpec> {
     let mut d: DisplaySpec = design
         .and_then(|d| d.file.display.clone())
         .unwrap_or_default();
     if let Some(m) = distance_m {
         d.distance_m = m;
     }
-    d
+    match viewer {
+        Some(log) => super::viewer::display_for_session(log, &d),
+        None => Ok(d),
+    }
 }
 
 /// Single-frame predictions combined into a video's JNDs (`blurlab predict frames`).
@@ -124,6 +134,8 @@ pub struct PredictOptions {
     pub sensitivity: f64,
     /// Viewing distance in metres, over the design's display block or the default display.
     pub distance_m: Option<f64>,
+    /// A browser session's log: the display at that subject's own pixels per degree.
+    pub viewer: Option<PathBuf>,
     /// How the observer compares test and reference; `None`: as the design's layout shows the
     /// pairs ([`Stage::for_layout`]).
     pub decision: Option<Comparison>,
@@ -140,6 +152,7 @@ impl PredictOptions {
             out: None,
             sensitivity: DEFAULT_K,
             distance_m: None,
+            viewer: None,
             decision: None,
             calibrate: Vec::new(),
         }
@@ -163,7 +176,7 @@ pub fn run_predict(args: &PredictOptions, progress: &dyn Progress) -> Result<Out
     }
     let design = args.design.as_deref().map(Design::load).transpose()?;
     let settings = PredictSettings {
-        display: display_spec(design.as_ref(), args.distance_m),
+        display: display_spec(design.as_ref(), args.distance_m, args.viewer.as_deref())?,
         k: args.sensitivity,
         stage: match args.decision {
             Some(d) => Stage::given(d),
