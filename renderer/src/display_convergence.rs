@@ -362,6 +362,27 @@ mod tests {
     }
 
     #[test]
+    fn the_csv_has_a_header_and_one_line_per_row() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("rows.csv");
+        write_csv(
+            &path,
+            &[row("sobol", 8, 2.5, 0.125), row("halton", 27, 1.0, 0.0)],
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines,
+            [
+                "point_set,spp,rmse,share_over,max_diff,seconds",
+                "sobol,8,2.5,0.125,0,0.0",
+                "halton,27,1.0,0.0,0,0.0",
+            ]
+        );
+    }
+
+    #[test]
     fn tally_counts_pixels_by_their_worst_channel() {
         let mut t = Tally::default();
         let reference = [10, 10, 10, 200, 200, 200];
