@@ -16,7 +16,8 @@ pub enum Look {
     Job,
     /// `render converge`: samples.
     Converge,
-    /// The experiment's preflight: frames checked.
+    /// The experiment's preflight: frames checked (`run`, which needs the `gui` feature).
+    #[cfg_attr(not(feature = "gui"), allow(dead_code))]
     Preflight,
     /// `predict`, `plan`: steps, named by the message.
     Steps,
