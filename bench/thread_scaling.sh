@@ -1,8 +1,8 @@
 #!/bin/bash
-# Wall clock of `render scene` on one rayon thread against two, for two builds alternated
+# Wall clock of `blurlab render scene` on one rayon thread against two, for two builds alternated
 # (issue 30's 2-thread scaling: 192 x 192, 64 spp, 8 frames of each thesis scene).
 #
-#   bash bench/thread_scaling.sh ROUNDS BASE_RENDER NEW_RENDER > runs.txt
+#   bash bench/thread_scaling.sh ROUNDS BASE_BLURLAB NEW_BLURLAB > runs.txt
 #
 # Run from a checkout (it reads scenes/thesis/). Prints one line per run:
 # scene build threads wall_s user_s sys_s (GNU time, 10 ms resolution). The scaling is
@@ -23,7 +23,7 @@ for _ in $(seq 1 "$rounds"); do
       bin=$base
       [ "$build" = new ] && bin=$new
       for threads in 1 2; do
-        RAYON_NUM_THREADS=$threads /usr/bin/time -o "$out/time" -f "%e %U %S" "$bin" scene \
+        RAYON_NUM_THREADS=$threads /usr/bin/time -o "$out/time" -f "%e %U %S" "$bin" render scene \
           "scenes/thesis/$1.json" --spp 64 --width 192 --height 192 --frames "$2" \
           --out "$out/frames" --no-progress > /dev/null 2>&1
         echo "$1 $build $threads $(tail -1 "$out/time")"

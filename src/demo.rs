@@ -13,10 +13,8 @@
 //! 5. write `results/demo/summary.md` and print where everything is.
 
 use anyhow::{Context, Result, bail};
-use clap::Args;
 use renderer::manifest::Manifest;
-use renderer::progress::NoProgress;
-use renderer::progress::terminal::{Look, Terminal};
+use renderer::progress::{NoProgress, Progress};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -24,31 +22,47 @@ use std::time::Instant;
 const JOB: &str = "scenes/jobs/demo.json";
 const DESIGN: &str = "scenes/designs/demo.json";
 
-/// Render a small stimulus set, run simulated subjects through it, and write the report.
-#[derive(Args, Clone, Debug)]
-pub struct DemoArgs {
-    /// Project root holding `scenes/` (stimuli go to `<root>/stimuli`, as the demo design
-    /// expects) [default: the current folder if it holds the demo job, else the source checkout].
-    #[arg(long)]
+/// What the demo is asked to do (`blurlab demo`'s flags map onto it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DemoOptions {
+    /// Project root holding `scenes/`; `None`: the current folder if it holds the demo job,
+    /// else the source checkout.
     pub root: Option<PathBuf>,
-    /// Results folder [default: <root>/results/demo].
-    #[arg(long)]
+    /// Results folder; `None`: <root>/results/demo.
     pub out: Option<PathBuf>,
     /// Number of simulated subjects (the thesis had 12).
-    #[arg(long, default_value_t = 12, value_parser = renderer::limits::parse_subjects,
-          allow_hyphen_values = true)]
     pub subjects: usize,
     /// Parametric bootstrap resamples per pooled fit.
-    #[arg(long, default_value_t = 2000, value_parser = renderer::limits::resamples(1000),
-          allow_hyphen_values = true)]
     pub bootstrap: usize,
-    /// Hide progress bars.
-    #[arg(long)]
-    pub no_progress: bool,
-    /// Simulated subjects answer from this observer file (e.g. scenes/observers/thesis.json)
-    /// instead of the prediction from the stimuli.
-    #[arg(long)]
+    /// Simulated subjects answer from this observer file instead of the prediction.
     pub observer: Option<PathBuf>,
+}
+
+impl Default for DemoOptions {
+    fn default() -> Self {
+        Self {
+            root: None,
+            out: None,
+            subjects: 12,
+            bootstrap: 2000,
+            observer: None,
+        }
+    }
+}
+
+/// Where the demo's long steps report: rendering (samples) and predicting (steps).
+#[derive(Clone, Copy)]
+pub struct DemoProgress<'a> {
+    pub render: &'a dyn Progress,
+    pub predict: &'a dyn Progress,
+}
+
+impl DemoProgress<'static> {
+    /// Reported nowhere.
+    pub const NONE: Self = Self {
+        render: &NoProgress,
+        predict: &NoProgress,
+    };
 }
 
 /// Where the demo put its files.
@@ -75,7 +89,7 @@ pub struct DemoOutput {
 }
 
 /// Run the demo.
-pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
+pub fn run(args: &DemoOptions, progress: DemoProgress) -> Result<DemoOutput> {
     let root = resolve_root(args.root.as_deref())?;
     let out = args
         .out
@@ -84,7 +98,7 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
     let t0 = Instant::now();
 
     eprintln!("[1/5] rendering stimuli ({JOB})");
-    let (stimuli, manifest, frames_rendered, frames_reused) = render(&root, !args.no_progress)?;
+    let (stimuli, manifest, frames_rendered, frames_reused) = render(&root, progress.render)?;
     let t_render = t0.elapsed().as_secs_f64();
 
     eprintln!("[2/5] checking the stimuli against the design ({DESIGN})");
@@ -93,19 +107,16 @@ pub fn run(args: &DemoArgs) -> Result<DemoOutput> {
     experiment::preflight::preflight(&design, checks, &NoProgress).into_result()?;
 
     eprintln!("[3/5] predicting visibility from the stimuli");
-    let predicted = analysis::predict::command::run(&analysis::predict::command::PredictArgs {
-        stimuli: stimuli.clone(),
-        design: Some(root.join(DESIGN)),
-        out: Some(out.join("predict")),
-        sensitivity: analysis::predict::decision::DEFAULT_K,
-        distance_m: None,
-        viewer: None,
-        // None: the stage the demo design's layout gets (difference until the side-by-side
-        // stage is validated: analysis::predict::stage).
-        decision: None,
-        calibrate: Vec::new(),
-        no_progress: args.no_progress,
-    })?;
+    let predicted = analysis::predict::options::run_predict(
+        &analysis::predict::options::PredictOptions {
+            design: Some(root.join(DESIGN)),
+            out: Some(out.join("predict")),
+            // decision None: the stage the demo design's layout gets (difference until the
+            // side-by-side stage is validated: analysis::predict::stage).
+            ..analysis::predict::options::PredictOptions::new(stimuli.clone())
+        },
+        progress.predict,
+    )?;
     let observer_path = match &args.observer {
         Some(p) => p.clone(),
         None => predicted.files.predicted_csv.clone(),
@@ -199,10 +210,10 @@ fn resolve_root(given: Option<&Path>) -> Result<PathBuf> {
 
 /// Render (or finish rendering) the demo job; returns its stimulus folder, its manifest and the
 /// frames rendered and reused.
-fn render(root: &Path, progress: bool) -> Result<(PathBuf, Manifest, u64, u64)> {
+fn render(root: &Path, progress: &dyn Progress) -> Result<(PathBuf, Manifest, u64, u64)> {
     let job = renderer::job::Job::load(&root.join(JOB))?;
     let opts = renderer::job::RunOptions::new(root.join("stimuli"));
-    let done = renderer::job::run(&job, &opts, &Terminal::new(Look::Job, progress))?;
+    let done = renderer::job::run(&job, &opts, progress)?;
     eprintln!(
         "      {} frames rendered, {} reused from an earlier run",
         done.frames_rendered, done.frames_skipped

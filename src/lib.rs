@@ -1,7 +1,6 @@
-//! The root package of blurlab: the umbrella command line (`src/main.rs`) and the `demo`
-//! pipeline, which runs the three crates end to end on built-in defaults.
+//! The root package of blurlab: the `demo` pipeline, which runs the three crates end to end on
+//! built-in defaults, and the study summary it writes. The command line is the `blurlab`
+//! binary's own (`src/main.rs`, `src/cli/`).
 
 pub mod demo;
-#[cfg(feature = "web")]
-pub mod serve;
 pub mod summary;

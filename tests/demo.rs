@@ -1,7 +1,7 @@
 //! The README's first command, `blurlab demo`, on a copy of `scenes/`: every promised file
 //! appears, the summary names both scenes, and a second run reuses every rendered frame.
 
-use blurlab::demo::{DemoArgs, run};
+use blurlab::demo::{DemoOptions, DemoProgress, run};
 use std::path::Path;
 
 fn copy_dir(from: &Path, to: &Path) {
@@ -24,15 +24,12 @@ fn demo_writes_the_report_and_reuses_its_stimuli() {
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes"),
         &root.path().join("scenes"),
     );
-    let args = DemoArgs {
+    let args = DemoOptions {
         root: Some(root.path().to_path_buf()),
-        out: None,
-        subjects: 12,
         bootstrap: 1000,
-        no_progress: true,
-        observer: None,
+        ..DemoOptions::default()
     };
-    let first = run(&args).unwrap();
+    let first = run(&args, DemoProgress::NONE).unwrap();
     assert!(first.frames_rendered > 0 && first.frames_reused == 0);
     // A newcomer's first run warns about nothing of its own making (issue 42: "no --design").
     assert!(first.warnings.is_empty(), "{:?}", first.warnings);
@@ -94,7 +91,7 @@ fn demo_writes_the_report_and_reuses_its_stimuli() {
         .collect();
     assert_eq!(scenes, ["plane", "spheres"]);
 
-    let second = run(&args).unwrap();
+    let second = run(&args, DemoProgress::NONE).unwrap();
     assert_eq!(second.frames_rendered, 0);
     assert_eq!(second.frames_reused, first.frames_rendered);
     // Same stimuli, same seeds: the simulated study and its analysis repeat exactly.

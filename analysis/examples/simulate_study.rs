@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! cargo run -p analysis --release --example simulate_study -- <sessions dir> [seed]
-//! cargo run -p analysis --release -- <sessions dir> --out <report dir>
+//! cargo run --release -- analyze <sessions dir> --out <report dir>
 //! ```
 //!
 //! The design is [`StudySpec::thesis`]: 12 subjects x 2 scenes (true JND 40 and 100 spp) x

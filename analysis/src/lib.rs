@@ -3,8 +3,6 @@
 
 pub mod adaptive;
 pub mod bootstrap;
-#[cfg(feature = "cli")]
-pub mod cli;
 pub mod comparisons;
 mod continued_fraction;
 pub mod data;

@@ -1,6 +1,6 @@
 //! Choices with a fixed set of names (sigmoid, lapse mode, test, unit, preset): the names a
 //! command line offers and a report prints. The library's own trait, so that its types need
-//! no command-line crate; `cli` turns it into a value parser.
+//! no command-line crate; the `blurlab` binary turns it into a value parser.
 
 /// A value chosen from `ALL` by its `name`.
 pub trait Named: Copy + Sized + 'static {

@@ -1,5 +1,5 @@
 //! What an analysis is asked to do: [`AnalyzeOptions`], every field with its default written
-//! out (the `analyze` command's flags map onto it, `analysis::cli`), the validated
+//! out (the flags of `blurlab analyze` map onto it), the validated
 //! [`Settings`] it gives for a data set and design, and [`run_report`]: read, check, analyze,
 //! write.
 
@@ -18,8 +18,8 @@ use renderer::limits::MAX_RESAMPLES;
 use serde::Serialize;
 use std::path::PathBuf;
 
-/// An analysis of session logs or counts tables (`blurlab analyze`; the flags' help in
-/// `analysis::cli::AnalyzeArgs` says what each field means).
+/// An analysis of session logs or counts tables (`blurlab analyze`; the flags' help says what
+/// each field means).
 #[derive(Clone, Debug, PartialEq)]
 pub struct AnalyzeOptions {
     /// A sessions folder (every *.jsonl in it), session log files or counts tables.

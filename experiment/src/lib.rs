@@ -2,12 +2,12 @@
 //! file, per-subject trial lists, the append-only session log, resume, preflight checks of the
 //! stimuli, simulated observers and (feature `gui`) the egui/eframe presentation app.
 //!
-//! The library part has no GUI dependency: the analysis and the simulator use it headless.
+//! The library part has no GUI dependency: the analysis and the simulator use it headless. It
+//! knows no command line: `blurlab run` and `blurlab simulate` (the root package's `src/cli/`)
+//! map their flags onto it.
 
 #[cfg(feature = "gui")]
 pub mod app;
-#[cfg(feature = "cli")]
-pub mod cli;
 pub mod design;
 pub mod display;
 #[cfg(any(test, feature = "test-support"))]

@@ -289,6 +289,18 @@ pub fn judge(rows: &[Row], criterion: &Criterion) -> Vec<Verdict> {
         .collect()
 }
 
+/// The rows as CSV (`render converge --csv`), written whole or not at all.
+pub fn write_csv(path: &std::path::Path, rows: &[Row]) -> Result<()> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.serialize(r)?;
+    }
+    let bytes = w
+        .into_inner()
+        .map_err(|e| anyhow::anyhow!("cannot finish the CSV: {e}"))?;
+    crate::atomic::write_atomic(path, &bytes)
+}
+
 /// The rows and verdicts as a Markdown table.
 pub fn markdown(rows: &[Row], verdicts: &[Verdict], plan: &Plan) -> String {
     let mut s = format!(
@@ -347,6 +359,27 @@ mod tests {
             max_diff: 0,
             seconds: 0.0,
         }
+    }
+
+    #[test]
+    fn the_csv_has_a_header_and_one_line_per_row() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("rows.csv");
+        write_csv(
+            &path,
+            &[row("sobol", 8, 2.5, 0.125), row("halton", 27, 1.0, 0.0)],
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(
+            lines,
+            [
+                "point_set,spp,rmse,share_over,max_diff,seconds",
+                "sobol,8,2.5,0.125,0,0.0",
+                "halton,27,1.0,0.0,0,0.0",
+            ]
+        );
     }
 
     #[test]

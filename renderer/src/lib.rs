@@ -4,9 +4,10 @@
 //! Two layers, chosen by cargo features (docs/ARCHITECTURE.md): the light core (stimulus
 //! ids, hashing, SHA-256 digests, atomic writes, the JSON and UTF-8 readers, limits, the stimulus manifest,
 //! the progress trait, the typed conditions) is always built, because the experiment and the analysis need it;
-//! feature `plot` adds the figures' font, feature `terminal` the progress bar the binaries
-//! bind, and feature `tracer` (default) everything that renders. The experiment and the
-//! analysis turn `tracer` off, so they do not compile the ray tracer.
+//! feature `plot` adds the figures' font, and feature `tracer` (default) everything that
+//! renders. The experiment and the analysis turn `tracer` off, so they do not compile the ray
+//! tracer. The library knows no command line: `blurlab render` (the root package's
+//! `src/cli/render/`) parses the flags and calls it.
 
 // The light core.
 pub mod assets;
@@ -33,8 +34,6 @@ pub mod accel;
 pub mod bvh;
 #[cfg(feature = "tracer")]
 pub mod camera;
-#[cfg(feature = "tracer")]
-pub mod cli;
 #[cfg(feature = "tracer")]
 pub mod contact_sheet;
 #[cfg(feature = "tracer")]
@@ -65,6 +64,8 @@ pub mod math;
 pub mod metrics;
 #[cfg(feature = "tracer")]
 pub mod motion;
+#[cfg(feature = "tracer")]
+pub mod pointset_figure;
 #[cfg(feature = "tracer")]
 pub mod procedural;
 #[cfg(feature = "tracer")]

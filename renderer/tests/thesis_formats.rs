@@ -12,7 +12,6 @@ use renderer::job::line_format;
 use renderer::job::{
     IndependentReference, JOB_FORMAT, Job, JobFile, Overrides, Reference, ReferenceSpec,
 };
-use renderer::manifest::Manifest;
 use renderer::progress::NoProgress;
 use renderer::render::render_frame;
 use renderer::sampling::{
@@ -25,7 +24,6 @@ use renderer::scene::file::{
 };
 use renderer::scene::{SCENE_FORMAT, Scene};
 use std::path::{Path, PathBuf};
-use support::{render as run, s};
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -37,50 +35,9 @@ fn read(name: &str) -> String {
     std::fs::read_to_string(fixture(name)).unwrap()
 }
 
-/// A folder holding Figure 13's scene (as `name`) and small stand-ins at the paths it names:
-/// `models/B-727-200.obj` (a 4 x 1 x 4 box) and `data/CedarCity.hdr` (an 8 x 4 gradient sky).
+/// A folder holding Figure 13's scene (as `name`) and small stand-ins at the paths it names.
 fn figure13_folder(name: &str) -> tempfile::TempDir {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    std::fs::write(d.join(name), read("figure13.scene")).unwrap();
-    std::fs::create_dir_all(d.join("models")).unwrap();
-    std::fs::create_dir_all(d.join("data")).unwrap();
-    let mut obj = String::new();
-    for z in [-2.0, 2.0] {
-        for y in [-0.5, 0.5] {
-            for x in [-2.0, 2.0] {
-                obj += &format!("v {x} {y} {z}\n");
-            }
-        }
-    }
-    for f in [
-        [1, 2, 4, 3],
-        [5, 7, 8, 6],
-        [1, 5, 6, 2],
-        [3, 4, 8, 7],
-        [1, 3, 7, 5],
-        [2, 6, 8, 4],
-    ] {
-        obj += &format!("f {} {} {} {}\n", f[0], f[1], f[2], f[3]);
-    }
-    std::fs::write(d.join("models/B-727-200.obj"), obj).unwrap();
-    let (w, h) = (8usize, 4usize);
-    let sky: Vec<image::Rgb<f32>> = (0..w * h)
-        .map(|i| {
-            let (x, y) = ((i % w) as f32, (i / w) as f32);
-            image::Rgb([
-                0.2 + 0.1 * x,
-                0.4 + 0.2 * y,
-                1.0 + 3.0 * (y == 0.0) as u8 as f32,
-            ])
-        })
-        .collect();
-    let mut hdr = Vec::new();
-    image::codecs::hdr::HdrEncoder::new(&mut hdr)
-        .encode(&sky, w, h)
-        .unwrap();
-    std::fs::write(d.join("data/CedarCity.hdr"), hdr).unwrap();
-    dir
+    support::figure13_folder(&read("figure13.scene"), name)
 }
 
 #[test]
@@ -228,95 +185,10 @@ fn figure_13_renders_with_stand_ins_at_the_paths_it_names() {
 }
 
 #[test]
-fn render_scene_renders_a_scene_file() {
-    let dir = figure13_folder("plane.scene");
-    let out = dir.path().join("frames");
-    let said = run(&[
-        "scene",
-        s(&dir.path().join("plane.scene")),
-        "--out",
-        s(&out),
-        "--spp",
-        "1",
-        "--frames",
-        "100..102",
-        "--width",
-        "8",
-        "--height",
-        "8",
-        "--no-progress",
-    ]);
-    assert!(said.contains("2 frames of 8x8 at 1 spp"), "{said}");
-    for f in [100, 101] {
-        assert!(out.join(format!("frame_{f:04}.png")).is_file());
-    }
-}
-
-/// Figure 12's seven lines beside Figure 13's scene (named after the job), with extension
-/// lines that shrink it to 6 x 6 pixels and 2 frames: `render job` renders 48 stimuli, no
-/// independent reference, and each condition's 512-spp stimulus is its own reference.
-#[test]
-fn render_job_renders_figure_12_with_the_highest_level_as_ground_truth() {
-    let dir = figure13_folder("plane.scene");
-    let job = dir.path().join("plane.job");
-    let small = "\n# small for the test\nwidth 6\nheight 6\nframes 2\nfirstframe 3\n";
-    std::fs::write(&job, read("figure12.job") + small).unwrap();
-    let stimuli = dir.path().join("stimuli");
-    let said = run(&["job", s(&job), "--out", s(&stimuli), "--no-progress"]);
-    assert!(said.contains("(48 stimuli)"), "{said}");
-    let job_dir = stimuli.join("Plane_scene");
-    assert_eq!(
-        std::fs::read_to_string(job_dir.join("job.job")).unwrap(),
-        std::fs::read_to_string(&job).unwrap(),
-        "the job file is kept as given"
-    );
-    let m = Manifest::load(&job_dir).unwrap();
-    assert_eq!(m.stimuli.len(), 3 * 2 * 8);
-    assert!(m.stimuli.iter().all(|s| !s.reference && s.scene == "plane"));
-    for s in &m.stimuli {
-        let top = format!("plane-{}-{}-0512", s.point_set, s.time_filter);
-        assert_eq!(s.reference_id.as_deref(), Some(top.as_str()), "{}", s.id);
-        assert_eq!(s.own_reference(), s.spp == 512, "{}", s.id);
-        // Zero error by construction is not recorded; everything else is measured.
-        assert_eq!(s.error.is_none(), s.spp == 512, "{}", s.id);
-        // References keep linear frames to measure the other levels against.
-        assert_eq!(
-            s.exr_paths.len(),
-            if s.spp == 512 { 2 } else { 0 },
-            "{}",
-            s.id
-        );
-    }
-    let report = run(&[
-        "report",
-        s(&job_dir),
-        "--out",
-        s(&dir.path().join("report")),
-    ]);
-    assert!(report.contains("convergence.csv"), "{report}");
-    let csv = std::fs::read_to_string(dir.path().join("report/convergence.csv")).unwrap();
-    let own: Vec<&str> = csv.lines().filter(|l| l.ends_with(",true")).collect();
-    assert_eq!(own.len(), 6, "one own reference per condition:\n{csv}");
-    assert!(own.iter().all(|l| l.contains(",512,")), "{own:?}");
-    let slopes = std::fs::read_to_string(dir.path().join("report/convergence_slopes.csv")).unwrap();
-    for line in slopes.lines().skip(1) {
-        assert_eq!(
-            line.split(',').nth(3),
-            Some("7"),
-            "fitted on the 7 measured levels: {line}"
-        );
-    }
-}
-
-#[test]
 fn a_json_job_may_name_text_scenes_and_a_text_job_may_name_json_scenes() {
     let dir = figure13_folder("plane.scene");
     let d = dir.path();
-    run(&[
-        "convert",
-        s(&d.join("plane.scene")),
-        s(&d.join("plane.json")),
-    ]);
+    convert::convert(&d.join("plane.scene"), &d.join("plane.json")).unwrap();
     let json_job = d.join("j.json");
     std::fs::write(
         &json_job,

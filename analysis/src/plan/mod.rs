@@ -11,10 +11,9 @@
 //! replication r uses the same seeds at every subject count (common random numbers: the first
 //! subjects of a larger study are the subjects of a smaller one).
 
-#[cfg(feature = "cli")]
-pub mod command;
 pub mod duration;
 pub mod equivalence;
+pub mod options;
 pub mod output;
 pub mod replicate;
 

@@ -23,13 +23,12 @@
 //! | `calibrate` | the sensitivity constant fitted to real sessions, leave-one-condition-out |
 //! | `modelfest` | the ModelFest data set loaded and run through the pipeline |
 //! | `validate` | k, the pooling and the CSF's shape fitted to ModelFest, errors, leave-one-out |
+//! | `options` | what `blurlab predict` and its subcommands are asked to do, run end to end |
 //!
 //! `docs/predict.md` describes the model, its choices and what it cannot know.
 
 pub mod bands;
 pub mod calibrate;
-#[cfg(feature = "cli")]
-pub mod command;
 pub mod compare;
 pub mod csf;
 pub mod decision;
@@ -39,6 +38,7 @@ pub mod frames;
 pub mod local;
 pub mod masking;
 pub mod modelfest;
+pub mod options;
 pub mod output;
 pub mod pooling;
 pub mod preflight;

@@ -1,12 +1,9 @@
 //! How long work says how far it is. The libraries of all three crates (rendering a frame, a
 //! sequence or a job, display convergence, preflight, prediction, planning) report through
-//! [`Progress`] and never draw anything themselves; the binaries bind it to a terminal bar
-//! ([`terminal`]), tests to a recorder, everything else to [`NoProgress`].
+//! [`Progress`] and never draw anything themselves; the `blurlab` binary binds it to a terminal
+//! bar (its `src/cli/progress.rs`), tests to a recorder, everything else to [`NoProgress`].
 //!
 //! This file depends on std only: the crates that will not compile the tracer still use it.
-
-#[cfg(feature = "terminal")]
-pub mod terminal;
 
 /// Where long work reports how far it is. Work counts in its own unit (samples, frames,
 /// replications): [`Progress::start`] gives the total, [`Progress::advance`] what is done since

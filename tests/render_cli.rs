@@ -1,17 +1,65 @@
-//! The `render job` command end to end on synthetic scenes: a kill mid-run and a rerun give the
-//! same stimulus set as one uninterrupted run; so do the generated Slurm array script's body
-//! run locally for every array index, and shards fanned out with xargs.
+//! `blurlab render` end to end: `render job` on synthetic scenes (a kill mid-run and a rerun
+//! give the same stimulus set as one uninterrupted run; so do the generated Slurm array
+//! script's body run locally for every array index, and shards fanned out with xargs), `render
+//! scene` and `render job` on the thesis's Figures 12 and 13, and the flags' limits.
 
-mod support;
+#[path = "../renderer/tests/support/mod.rs"]
+mod figure13;
 
 use renderer::manifest::Manifest;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-use support::{render, s};
 
-const RENDER: &str = env!("CARGO_BIN_EXE_render");
+const BLURLAB: &str = env!("CARGO_BIN_EXE_blurlab");
+
+/// Run `blurlab render ARGS`, require success, return its standard output.
+fn render(args: &[&str]) -> String {
+    let out = Command::new(BLURLAB)
+        .arg("render")
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "render {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Run `blurlab render ARGS`, require a usage error, return its standard error.
+fn render_err(args: &[&str]) -> String {
+    let out = Command::new(BLURLAB)
+        .arg("render")
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(!out.status.success(), "render {args:?} succeeded");
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "render {args:?}: not a usage error"
+    );
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// A path as a command-line argument.
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A file of the renderer's thesis fixtures (Figures 12 and 13 as printed).
+fn read(name: &str) -> String {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("renderer/tests/fixtures/thesis");
+    std::fs::read_to_string(dir.join(name)).unwrap()
+}
+
+/// A folder holding Figure 13's scene (as `name`) and small stand-ins at the paths it names.
+fn figure13_folder(name: &str) -> tempfile::TempDir {
+    figure13::figure13_folder(&read("figure13.scene"), name)
+}
 
 fn scene(w: u32, h: u32, frames: u32, speed: f32) -> String {
     format!(
@@ -82,8 +130,8 @@ fn a_killed_run_resumes_to_the_same_stimulus_set() {
     ]);
 
     let out = d.join("killed");
-    let mut child = Command::new(RENDER)
-        .args(["job", s(&job), "--out", s(&out), "--no-progress"])
+    let mut child = Command::new(BLURLAB)
+        .args(["render", "job", s(&job), "--out", s(&out), "--no-progress"])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
@@ -178,7 +226,7 @@ fn shards_fanned_out_with_xargs_then_finalized_equal_a_single_run() {
     ]);
     let out = d.join("xargs");
     let cmd = format!(
-        "seq 1 4 | xargs -P 2 -I{{}} '{RENDER}' job '{}' --out '{}' --shard {{}}/4 \
+        "seq 1 4 | xargs -P 2 -I{{}} '{BLURLAB}' render job '{}' --out '{}' --shard {{}}/4 \
          --no-progress --no-finalize",
         s(&job),
         s(&out)
@@ -215,4 +263,108 @@ fn dry_run_report_and_export_work_from_the_command_line() {
     let header = b"YUV4MPEG2 W16 H16 F30:1 Ip A1:1 C444 XCOLORRANGE=LIMITED\n";
     assert!(y4m.starts_with(header));
     assert_eq!(y4m.len(), header.len() + 3 * (6 + 3 * 16 * 16));
+}
+
+/// The same limits wherever a number enters (`renderer::limits`, docs/limits.md): the command
+/// line refuses sizes and sample counts out of range, negative numbers included, with a
+/// message saying what was expected (before: an abort allocating 120 GB, or clap's `-- -1`
+/// hint).
+#[test]
+fn command_line_sizes_and_counts_are_bounded() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/static.json");
+    let out = std::env::temp_dir().join("blurlab-limits-never-written");
+    let o = out.to_str().unwrap();
+    for (flag, value, expected) in [
+        ("--width", "100000", "from 1 to 16384"),
+        ("--height", "-5", "from 1 to 16384"),
+        ("--spp", "-1", "samples per pixel from 1 to 65536"),
+        ("--spp", "1000000", "samples per pixel from 1 to 65536"),
+        ("--frames", "-1..1", "frame numbers from 0"),
+    ] {
+        let err = render_err(&["scene", scene, "--out", o, flag, value]);
+        assert!(err.contains(expected), "{flag} {value}: {err}");
+        assert!(!err.contains("-- -"), "{flag} {value}: clap's hint: {err}");
+    }
+    assert!(!out.exists());
+}
+
+#[test]
+fn render_scene_renders_a_scene_file() {
+    let dir = figure13_folder("plane.scene");
+    let out = dir.path().join("frames");
+    let said = render(&[
+        "scene",
+        s(&dir.path().join("plane.scene")),
+        "--out",
+        s(&out),
+        "--spp",
+        "1",
+        "--frames",
+        "100..102",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--no-progress",
+    ]);
+    assert!(said.contains("2 frames of 8x8 at 1 spp"), "{said}");
+    for f in [100, 101] {
+        assert!(out.join(format!("frame_{f:04}.png")).is_file());
+    }
+}
+
+/// Figure 12's seven lines beside Figure 13's scene (named after the job), with extension
+/// lines that shrink it to 6 x 6 pixels and 2 frames: `render job` renders 48 stimuli, no
+/// independent reference, and each condition's 512-spp stimulus is its own reference.
+#[test]
+fn render_job_renders_figure_12_with_the_highest_level_as_ground_truth() {
+    let dir = figure13_folder("plane.scene");
+    let job = dir.path().join("plane.job");
+    let small = "\n# small for the test\nwidth 6\nheight 6\nframes 2\nfirstframe 3\n";
+    std::fs::write(&job, read("figure12.job") + small).unwrap();
+    let stimuli = dir.path().join("stimuli");
+    let said = render(&["job", s(&job), "--out", s(&stimuli), "--no-progress"]);
+    assert!(said.contains("(48 stimuli)"), "{said}");
+    let job_dir = stimuli.join("Plane_scene");
+    assert_eq!(
+        std::fs::read_to_string(job_dir.join("job.job")).unwrap(),
+        std::fs::read_to_string(&job).unwrap(),
+        "the job file is kept as given"
+    );
+    let m = Manifest::load(&job_dir).unwrap();
+    assert_eq!(m.stimuli.len(), 3 * 2 * 8);
+    assert!(m.stimuli.iter().all(|s| !s.reference && s.scene == "plane"));
+    for s in &m.stimuli {
+        let top = format!("plane-{}-{}-0512", s.point_set, s.time_filter);
+        assert_eq!(s.reference_id.as_deref(), Some(top.as_str()), "{}", s.id);
+        assert_eq!(s.own_reference(), s.spp == 512, "{}", s.id);
+        // Zero error by construction is not recorded; everything else is measured.
+        assert_eq!(s.error.is_none(), s.spp == 512, "{}", s.id);
+        // References keep linear frames to measure the other levels against.
+        assert_eq!(
+            s.exr_paths.len(),
+            if s.spp == 512 { 2 } else { 0 },
+            "{}",
+            s.id
+        );
+    }
+    let report = render(&[
+        "report",
+        s(&job_dir),
+        "--out",
+        s(&dir.path().join("report")),
+    ]);
+    assert!(report.contains("convergence.csv"), "{report}");
+    let csv = std::fs::read_to_string(dir.path().join("report/convergence.csv")).unwrap();
+    let own: Vec<&str> = csv.lines().filter(|l| l.ends_with(",true")).collect();
+    assert_eq!(own.len(), 6, "one own reference per condition:\n{csv}");
+    assert!(own.iter().all(|l| l.contains(",512,")), "{own:?}");
+    let slopes = std::fs::read_to_string(dir.path().join("report/convergence_slopes.csv")).unwrap();
+    for line in slopes.lines().skip(1) {
+        assert_eq!(
+            line.split(',').nth(3),
+            Some("7"),
+            "fitted on the 7 measured levels: {line}"
+        );
+    }
 }

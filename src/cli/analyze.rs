@@ -1,16 +1,14 @@
-//! `analyze <sessions dir or files...> --out <report dir>`: the command line of the analysis.
-//! The umbrella binary wires [`AnalyzeArgs`] and [`run`] into `blurlab analyze`; the crate's
-//! own `analyze` binary does the same alone. The flags only map onto
-//! [`crate::options::AnalyzeOptions`], whose defaults they repeat (a test checks that they
-//! agree).
+//! `blurlab analyze <sessions dir or files...> --out <report dir>`: the analysis's flags. They
+//! only map onto `analysis::options::AnalyzeOptions`, whose defaults they repeat (a test checks
+//! that they agree).
 
-use crate::comparisons::Unit;
-use crate::named::Named;
-use crate::options::{AnalyzeOptions, ModelKind, run_report};
-use crate::psychometric::LapseMode;
-use crate::report::Preset;
-use crate::sigmoid::Sigmoid;
-use crate::ttest::TestKind;
+use analysis::comparisons::Unit;
+use analysis::named::Named;
+use analysis::options::{AnalyzeOptions, ModelKind, run_report};
+use analysis::psychometric::LapseMode;
+use analysis::report::Preset;
+use analysis::sigmoid::Sigmoid;
+use analysis::ttest::TestKind;
 use anyhow::Result;
 use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
@@ -137,7 +135,7 @@ pub struct AnalyzeArgs {
 }
 
 /// A clap value parser offering `T`'s names.
-fn named<T: Named + Clone + Send + Sync>() -> impl TypedValueParser<Value = T> {
+pub fn named<T: Named + Clone + Send + Sync>() -> impl TypedValueParser<Value = T> {
     PossibleValuesParser::new(T::ALL.iter().map(|v| v.name()))
         .map(|s| T::by_name(&s).expect("clap offers only the names"))
 }
@@ -253,5 +251,21 @@ mod tests {
         assert!(
             Cli::try_parse_from(["analyze", "--out", "o", "--sigmoid", "probit", "x"]).is_err()
         );
+    }
+
+    #[test]
+    fn the_options_the_thesis_preset_fixes_cannot_be_given_beside_it() {
+        for extra in [
+            ["--unit", "subject"],
+            ["--test", "welch"],
+            ["--alpha", "0.01"],
+            ["--levels", "64"],
+            ["--target", "0.8"],
+        ] {
+            let argv = [
+                "analyze", "--preset", "thesis", extra[0], extra[1], "--out", "o", "in",
+            ];
+            assert!(Cli::try_parse_from(argv).is_err(), "{extra:?}");
+        }
     }
 }

@@ -1,5 +1,4 @@
-//! The `render` command line. Each subcommand lives in its own file; the binary and the
-//! umbrella command both call [`run`].
+//! `blurlab render`: the renderer's subcommands, one file each, over the `renderer` library.
 
 pub mod assets;
 pub mod converge;
@@ -10,10 +9,10 @@ pub mod pointsets;
 pub mod report;
 pub mod scene;
 
-use crate::assets::Assets;
-use crate::scene::Scene;
 use anyhow::Result;
 use clap::{Args, Subcommand};
+use renderer::assets::Assets;
+use renderer::scene::Scene;
 use std::path::Path;
 
 /// The `--asset` flag of the subcommands that load scenes (`scene`, `job`, `converge`).

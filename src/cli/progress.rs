@@ -1,9 +1,10 @@
-//! The one terminal binding of [`Progress`], shared by the binaries of all three crates: an
-//! indicatif bar on stderr in the look its command has always had, or nothing at all
-//! (`--no-progress`). Each [`Progress::start`] draws a new bar; [`Progress::finish`] clears it.
+//! The command line's binding of `renderer::progress::Progress`, the one terminal bar of the
+//! workspace (the libraries report and never draw): an indicatif bar on stderr in the look its
+//! command has always had, or nothing at all (`--no-progress`). Each [`Progress::start`] draws
+//! a new bar; [`Progress::finish`] clears it.
 
-use super::Progress;
 use indicatif::{ProgressBar, ProgressState, ProgressStyle};
+use renderer::progress::Progress;
 use std::sync::RwLock;
 
 /// How a command's bar looks.
@@ -15,7 +16,8 @@ pub enum Look {
     Job,
     /// `render converge`: samples.
     Converge,
-    /// The experiment's preflight: frames checked.
+    /// The experiment's preflight: frames checked (`run`, which needs the `gui` feature).
+    #[cfg_attr(not(feature = "gui"), allow(dead_code))]
     Preflight,
     /// `predict`, `plan`: steps, named by the message.
     Steps,

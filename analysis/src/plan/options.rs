@@ -1,4 +1,6 @@
-//! `blurlab plan --design D --observer O --subjects 4,8,12,16,24 --replications R`.
+//! What `blurlab plan` is asked to do: [`PlanOptions`], every field with its default written
+//! out (the command's flags map onto it), and [`plan_study`]: simulate, analyse, recommend,
+//! write plan.md and its tables and figures.
 
 use super::duration::{SessionDuration, manifest_video_seconds, session};
 use super::output::{Criteria, recommendation, write};
@@ -8,82 +10,68 @@ use crate::bootstrap::BootstrapSettings;
 use crate::data::Grouping;
 use crate::report::Settings;
 use anyhow::{Result, bail};
-use clap::Args;
 use experiment::{Design, Observer};
-use renderer::limits::real;
-use renderer::progress::terminal::{Look, Terminal};
+use renderer::progress::Progress;
 use std::path::PathBuf;
 
-/// Longest time a duration flag takes (a typo guard): a day, in seconds.
-const DAY: f64 = 86_400.0;
-
-/// How many subjects a study needs: simulate it many times and analyse each simulation.
-#[derive(Args, Clone, Debug)]
-pub struct PlanArgs {
+/// A study to plan (the flags' help of `blurlab plan` says what each field means).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanOptions {
     /// The design file (blurlab-design/1).
-    #[arg(long)]
     pub design: PathBuf,
-    /// The observer: an observer file (blurlab-observer/1) or a predicted.csv.
-    #[arg(long)]
+    /// An observer file (blurlab-observer/1) or a predicted.csv.
     pub observer: PathBuf,
     /// Subject counts to try.
-    #[arg(long, value_delimiter = ',', default_value = "4,8,12,16,24",
-          value_parser = renderer::limits::parse_subjects, allow_hyphen_values = true)]
     pub subjects: Vec<usize>,
     /// Simulated studies per subject count.
-    #[arg(long, default_value_t = 500, value_parser = renderer::limits::parse_replications,
-          allow_hyphen_values = true)]
     pub replications: u64,
     /// A pooled JND's interval is narrow when upper / lower < this factor (in spp).
-    #[arg(long, default_value_t = 2.0, value_parser = real(1.0, 1e6, true, "a ratio"),
-          allow_hyphen_values = true)]
     pub factor: f64,
-    /// Bootstrap resamples per pooled fit (39: the percentile interval of 39 resamples covers
-    /// with probability exactly 0.95, docs/benchmarks/recovery.md).
-    #[arg(long, default_value_t = 39, value_parser = renderer::limits::resamples(19),
-          allow_hyphen_values = true)]
+    /// Bootstrap resamples per pooled fit (at least 19).
     pub resamples: usize,
-    /// Probability a recommendation requires (of a narrow interval, of significance).
-    #[arg(long, default_value_t = 0.8, value_parser = real(0.0, 1.0, true, "a probability"),
-          allow_hyphen_values = true)]
+    /// Probability a recommendation requires.
     pub probability: f64,
     /// Differences in proportion correct below this do not drive the recommendation.
-    #[arg(long, default_value_t = 0.05,
-          value_parser = real(0.0, 1.0, false, "a difference in proportion correct"),
-          allow_hyphen_values = true)]
     pub min_difference: f64,
-    /// Fit a JND per condition too (not only per scene, point set and time filter).
-    #[arg(long)]
+    /// Fit a JND per condition too.
     pub conditions: bool,
     /// Video length in seconds when the design's manifest is not rendered.
-    #[arg(long, value_parser = real(0.0, DAY, true, "seconds"), allow_hyphen_values = true)]
     pub video_seconds: Option<f64>,
     /// Assumed time to answer a trial, seconds.
-    #[arg(long, default_value_t = 2.0, value_parser = real(0.0, DAY, false, "seconds"),
-          allow_hyphen_values = true)]
     pub response_seconds: f64,
     /// Assumed length of a break, seconds.
-    #[arg(long, default_value_t = 60.0, value_parser = real(0.0, DAY, false, "seconds"),
-          allow_hyphen_values = true)]
     pub break_seconds: f64,
-    /// Output folder [default: results/<design name>/plan].
-    #[arg(long)]
+    /// Output folder; `None`: results/<design name>/plan.
     pub out: Option<PathBuf>,
-    /// Hide the progress bar.
-    #[arg(long)]
-    pub no_progress: bool,
-    /// Also plan the multilevel model's equivalence tests (TOST) of point sets and time
-    /// filters at this margin in ln JND (0.2: a ratio within 0.82-1.22): their power and the
-    /// subjects needed (`equivalence.json`, a section of plan.md).
-    #[arg(long, value_parser = real(0.0, 5.0, true, "a margin in ln JND"),
-          allow_hyphen_values = true)]
+    /// Also plan the multilevel model's equivalence tests at this margin in ln JND.
     pub equivalence: Option<f64>,
-    /// Subject counts for the equivalence tests [default: --subjects]. The TOST needs far more
-    /// subjects than the pooled intervals (about 100 at margin 0.2 on the thesis design), and
-    /// these replications skip the pooled fits, so they can search higher counts cheaply.
-    #[arg(long, value_delimiter = ',', value_parser = renderer::limits::parse_subjects,
-          allow_hyphen_values = true, requires = "equivalence")]
+    /// Subject counts for the equivalence tests; `None`: `subjects`.
     pub equivalence_subjects: Option<Vec<usize>>,
+}
+
+impl PlanOptions {
+    /// The defaults for a design and an observer.
+    pub fn new(design: PathBuf, observer: PathBuf) -> Self {
+        Self {
+            design,
+            observer,
+            subjects: vec![4, 8, 12, 16, 24],
+            replications: 500,
+            factor: 2.0,
+            // The percentile interval of 39 resamples covers with probability exactly 0.95
+            // (docs/benchmarks/recovery.md).
+            resamples: 39,
+            probability: 0.8,
+            min_difference: 0.05,
+            conditions: false,
+            video_seconds: None,
+            response_seconds: 2.0,
+            break_seconds: 60.0,
+            out: None,
+            equivalence: None,
+            equivalence_subjects: None,
+        }
+    }
 }
 
 /// What the command produced.
@@ -94,7 +82,8 @@ pub struct Outcome {
     pub files: Vec<PathBuf>,
 }
 
-pub fn run(args: &PlanArgs) -> Result<Outcome> {
+/// Plan the study: replications through simulate -> analyze, the recommendation, the files.
+pub fn plan_study(args: &PlanOptions, progress: &dyn Progress) -> Result<Outcome> {
     if args.factor.is_nan() || args.factor <= 1.0 {
         bail!("--factor is {}; expected a ratio > 1", args.factor);
     }
@@ -128,8 +117,7 @@ pub fn run(args: &PlanArgs) -> Result<Outcome> {
         },
         keep_replications: false,
     };
-    let bar = Terminal::new(Look::Steps, !args.no_progress);
-    let plan = run_plan(&design, &observer, &settings, &bar)?;
+    let plan = run_plan(&design, &observer, &settings, progress)?;
     let duration = args
         .video_seconds
         .or_else(|| manifest_video_seconds(&design))
@@ -150,7 +138,7 @@ pub fn run(args: &PlanArgs) -> Result<Outcome> {
                 args.equivalence_subjects.as_ref().unwrap_or(&args.subjects),
                 args.replications,
                 m,
-                &bar,
+                progress,
             )?;
             text.push_str("\n\n");
             text.push_str(&super::equivalence::markdown(&rows, m, args.probability));

@@ -1,4 +1,4 @@
-//! `render job --asset CedarCity.hdr=PATH`: the thesis's plane scene rendered under the user's
+//! `blurlab render job --asset CedarCity.hdr=PATH`: the thesis's plane scene rendered under the user's
 //! copy of the thesis's sky instead of the stand-in, recorded by hash in the manifest. The copy
 //! is never part of the project: the test uses `../shared/assets/CedarCity.hdr` beside the
 //! repository (or `$BLURLAB_SHARED_ASSETS/CedarCity.hdr`) and is skipped without it.
@@ -8,12 +8,12 @@ use renderer::manifest::Manifest;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const RENDER: &str = env!("CARGO_BIN_EXE_render");
+const BLURLAB: &str = env!("CARGO_BIN_EXE_blurlab");
 
 fn real_sky() -> Option<PathBuf> {
     let dir = std::env::var_os("BLURLAB_SHARED_ASSETS")
         .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/assets"));
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets"));
     let file = dir.join("CedarCity.hdr");
     file.is_file().then_some(file)
 }
@@ -21,7 +21,7 @@ fn real_sky() -> Option<PathBuf> {
 /// A one-frame, 32 x 32 job of the thesis's plane scene at a sun-facing frame, where the sky
 /// fills most of the view.
 fn job(dir: &Path) -> PathBuf {
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/thesis/plane.json");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/thesis/plane.json");
     let text = format!(
         r#"{{"format": "blurlab-job/1", "name": "sky", "scenes": [{scene:?}],
             "levels": [8], "point_sets": ["stratified"], "time_filters": ["truncated_box"],
@@ -35,8 +35,14 @@ fn job(dir: &Path) -> PathBuf {
 }
 
 fn render_job(job: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
-    Command::new(RENDER)
-        .args(["job", job.to_str().unwrap(), "--out", out.to_str().unwrap()])
+    Command::new(BLURLAB)
+        .args([
+            "render",
+            "job",
+            job.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .arg("--no-progress")
         .args(extra)
         .output()
@@ -88,7 +94,7 @@ fn the_user_s_cedar_city_map_replaces_the_stand_in_and_is_recorded_by_hash() {
 fn a_file_that_is_no_lat_long_radiance_map_is_refused_by_name() {
     let dir = tempfile::tempdir().unwrap();
     let job = job(dir.path());
-    let obj = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/thesis/models/B-727-200.obj");
+    let obj = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/thesis/models/B-727-200.obj");
     let flag = format!("CedarCity.hdr={}", obj.display());
     let o = render_job(&job, &dir.path().join("out"), &["--asset", &flag]);
     assert!(!o.status.success());

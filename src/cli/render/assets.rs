@@ -1,4 +1,4 @@
-//! `render assets`: regenerate the procedural models and environment maps under `scenes/`.
+//! `blurlab render assets`: regenerate the procedural models and environment maps under `scenes/`.
 
 use anyhow::Result;
 use clap::Args;
@@ -14,7 +14,7 @@ pub struct AssetsArgs {
 }
 
 pub fn run(args: AssetsArgs) -> Result<()> {
-    for p in crate::procedural::write_assets(&args.scenes)? {
+    for p in renderer::procedural::write_assets(&args.scenes)? {
         println!("wrote {}", p.display());
     }
     Ok(())

@@ -1,11 +1,11 @@
-//! `render scene <scene.json | scene.scene> --spp N --out DIR [--frames a..b] [--exr]`: render a scene's
+//! `blurlab render scene <scene.json | scene.scene> --spp N --out DIR [--frames a..b] [--exr]`: render a scene's
 //! frames with its own settings (or the sampling given here) into a folder.
 
-use crate::condition::{PointSetKind, TimeFilter};
-use crate::progress::terminal::{Look, Terminal};
-use crate::render::sequence::{SequenceOptions, render_sequence};
+use crate::cli::progress::{Look, Terminal};
 use anyhow::{Result, bail};
 use clap::Args;
+use renderer::condition::{PointSetKind, TimeFilter};
+use renderer::render::sequence::{SequenceOptions, render_sequence};
 use std::ops::Range;
 use std::path::PathBuf;
 
@@ -19,7 +19,7 @@ pub struct SceneArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Samples per pixel (default: the scene's settings.sampling.spp).
-    #[arg(long, value_parser = crate::limits::parse_spp, allow_hyphen_values = true)]
+    #[arg(long, value_parser = renderer::limits::parse_spp, allow_hyphen_values = true)]
     pub spp: Option<u32>,
     /// Point set (default: the scene's).
     #[arg(long)]
@@ -35,14 +35,14 @@ pub struct SceneArgs {
     #[arg(long)]
     pub exr: bool,
     /// Master seed of the samplers' random choices.
-    #[arg(long, default_value_t = 1, value_parser = crate::limits::parse_seed,
+    #[arg(long, default_value_t = 1, value_parser = renderer::limits::parse_seed,
           allow_hyphen_values = true)]
     pub seed: u64,
     /// Image width in pixels (default: the scene's).
-    #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
+    #[arg(long, value_parser = renderer::limits::parse_side, allow_hyphen_values = true)]
     pub width: Option<u32>,
     /// Image height in pixels (default: the scene's).
-    #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
+    #[arg(long, value_parser = renderer::limits::parse_side, allow_hyphen_values = true)]
     pub height: Option<u32>,
     /// Hide the progress bar.
     #[arg(long)]

@@ -1,4 +1,4 @@
-//! The real app in a real X server (Xvfb + Mesa): start `experiment run` on a rendered study,
+//! The real app in a real X server (Xvfb + Mesa): start `blurlab run` on a rendered study,
 //! press keys with xdotool, take screenshots with ImageMagick's `import`, and check that during
 //! playback each video's current frame is on screen pixel for pixel — at the layout's whole-pixel
 //! place, unscaled and unfiltered — at display scale factors 1 and 1.5; then answer and check
@@ -219,11 +219,10 @@ struct Run {
 fn start_app(x: &Xvfb, study: &Study, scale: f32, subject: &str) -> Run {
     let stderr = study.root.join(format!("app-{scale}.stderr"));
     let sessions = study.root.join("sessions");
-    // BLURLAB_EXPERIMENT_BIN runs another build of the app (e.g. main's, for a comparison).
-    let bin = std::env::var_os("BLURLAB_EXPERIMENT_BIN").map_or(
-        PathBuf::from(env!("CARGO_BIN_EXE_experiment")),
-        PathBuf::from,
-    );
+    // BLURLAB_EXPERIMENT_BIN runs another build of the app (e.g. main's, for a comparison): a
+    // `blurlab` binary, or an older `experiment` one (both take `run` and the same flags).
+    let bin = std::env::var_os("BLURLAB_EXPERIMENT_BIN")
+        .map_or(PathBuf::from(env!("CARGO_BIN_EXE_blurlab")), PathBuf::from);
     let app = x
         .command(bin)
         .env("WINIT_X11_SCALE_FACTOR", scale.to_string())

@@ -1,13 +1,13 @@
-//! `render converge <scene> [--levels ...] [--frames ...]`: whether a scene's stimuli converge
-//! in display space (`crate::display_convergence`): the table, a verdict per point set, and
+//! `blurlab render converge <scene> [--levels ...] [--frames ...]`: whether a scene's stimuli
+//! converge in display space (`renderer::display_convergence`): the table, a verdict per point set, and
 //! optionally a contact sheet and CSV.
 
-use crate::condition::{PointSetKind, TimeFilter};
-use crate::contact_sheet::{self, Rect, Tile};
-use crate::display_convergence::{self as dc, Criterion, Plan};
-use crate::progress::terminal::{Look, Terminal};
+use crate::cli::progress::{Look, Terminal};
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use renderer::condition::{PointSetKind, TimeFilter};
+use renderer::contact_sheet::{self, Rect, Tile};
+use renderer::display_convergence::{self as dc, Criterion, Plan};
 use std::path::PathBuf;
 
 /// Render a scene's levels on a few frames and compare them, as display frames, with a
@@ -18,7 +18,7 @@ pub struct ConvergeArgs {
     pub scene: PathBuf,
     /// Sampling levels (spp), increasing, separated by commas.
     #[arg(long, value_delimiter = ',', default_value = THESIS_LEVELS,
-          value_parser = crate::limits::parse_spp, allow_hyphen_values = true)]
+          value_parser = renderer::limits::parse_spp, allow_hyphen_values = true)]
     pub levels: Vec<u32>,
     /// Point sets to measure, separated by commas.
     #[arg(long, value_delimiter = ',', default_value = THESIS_POINT_SETS)]
@@ -28,7 +28,7 @@ pub struct ConvergeArgs {
     pub time_filter: TimeFilter,
     /// Samples per pixel of the reference, above the highest level [default: 4 x the highest
     /// level, at most 65536].
-    #[arg(long, value_parser = crate::limits::parse_spp, allow_hyphen_values = true)]
+    #[arg(long, value_parser = renderer::limits::parse_spp, allow_hyphen_values = true)]
     pub reference_spp: Option<u32>,
     /// Point set of the reference.
     #[arg(long, default_value = "sobol")]
@@ -37,13 +37,13 @@ pub struct ConvergeArgs {
     #[arg(long, value_delimiter = ',', value_parser = parse_frame, allow_hyphen_values = true)]
     pub frames: Vec<u32>,
     /// Image width in pixels (default: the scene's).
-    #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
+    #[arg(long, value_parser = renderer::limits::parse_side, allow_hyphen_values = true)]
     pub width: Option<u32>,
     /// Image height in pixels (default: the scene's).
-    #[arg(long, value_parser = crate::limits::parse_side, allow_hyphen_values = true)]
+    #[arg(long, value_parser = renderer::limits::parse_side, allow_hyphen_values = true)]
     pub height: Option<u32>,
     /// Master seed of the levels (the reference's is derived from it).
-    #[arg(long, default_value_t = 1, value_parser = crate::limits::parse_seed,
+    #[arg(long, default_value_t = 1, value_parser = renderer::limits::parse_seed,
           allow_hyphen_values = true)]
     pub seed: u64,
     /// A pixel differs when a channel is more than this many levels (of 255) off.
@@ -96,7 +96,7 @@ fn reference_spp(args: &ConvergeArgs) -> Result<u32> {
     let top = args.levels.iter().copied().max().unwrap_or(1);
     let spp = args
         .reference_spp
-        .unwrap_or_else(|| top.saturating_mul(4).min(crate::limits::MAX_SPP));
+        .unwrap_or_else(|| top.saturating_mul(4).min(renderer::limits::MAX_SPP));
     if spp <= top {
         bail!(
             "--reference-spp is {spp}; expected more samples per pixel than the highest of \
@@ -173,7 +173,7 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
     );
     print!("{}", dc::markdown(&rows, &verdicts, &plan));
     if let Some(path) = &args.csv {
-        write_csv(path, &rows)?;
+        dc::write_csv(path, &rows)?;
     }
     if let Some(path) = &args.sheet {
         let mut all = tiles.into_iter().collect::<Result<Vec<_>>>()?;
@@ -188,15 +188,6 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
         );
     }
     Ok(())
-}
-
-fn write_csv(path: &std::path::Path, rows: &[dc::Row]) -> Result<()> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    for r in rows {
-        w.serialize(r)?;
-    }
-    let bytes = w.into_inner().context("cannot finish the CSV")?;
-    crate::atomic::write_atomic(path, &bytes)
 }
 
 #[cfg(test)]

@@ -1,4 +1,4 @@
-//! `blurlab serve`: subjects' sessions in their browsers (experiment::web; docs/web.md).
+//! `blurlab serve`: subjects' sessions in their browsers (`experiment::web`; docs/web.md).
 
 use clap::Args;
 use std::net::SocketAddr;

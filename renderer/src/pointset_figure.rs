@@ -1,6 +1,6 @@
-//! `render pointsets`: look at a point set the way thesis Figure 4 does (its 2D projections)
-//! and measure it: L2-star discrepancy against the random expectation, and the minimum
-//! toroidal distance against the densest packing.
+//! A point set the way thesis Figure 4 shows it (its 2D projections) and measured: L2-star
+//! discrepancy against the random expectation, and the minimum toroidal distance against the
+//! densest packing (`blurlab render pointsets`).
 
 use crate::convergence::{FONT, register_font};
 use crate::sampling::discrepancy::{l2_star, random_l2_star_squared};
@@ -8,32 +8,8 @@ use crate::sampling::pointset::{self, Points};
 use crate::sampling::spacing::{max_packing_distance, min_toroidal_distance};
 use crate::sampling::{Density, density};
 use anyhow::{Context, Result, anyhow, bail};
-use clap::Args;
 use plotters::prelude::*;
-use std::path::{Path, PathBuf};
-
-/// Print a point set's discrepancy and spacing; optionally plot its (u,v), (u,t), (v,t)
-/// projections (thesis Figure 4).
-#[derive(Debug, Args)]
-pub struct PointsetsArgs {
-    /// Point set (random, stratified, hammersley, poisson, sobol, halton), or `all` for a table
-    /// of every set.
-    #[arg(long, default_value = "all")]
-    pub set: String,
-    /// Number of points (samples per pixel).
-    #[arg(long, default_value_t = 125)]
-    pub n: u32,
-    /// Seed of the set; the same seed gives the same points.
-    #[arg(long, default_value_t = 1, value_parser = crate::limits::parse_seed,
-          allow_hyphen_values = true)]
-    pub seed: u64,
-    /// Make a product set of n/K positions x K times (scene setting `density: {"temporal": K}`).
-    #[arg(long, value_name = "K")]
-    pub temporal: Option<u32>,
-    /// Draw the projections to this file (.svg or .png); needs a single --set.
-    #[arg(long, value_name = "FILE")]
-    pub plot: Option<PathBuf>,
-}
+use std::path::Path;
 
 /// What `render pointsets` measures of one set.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,37 +49,18 @@ impl std::fmt::Display for SetStats {
     }
 }
 
-pub fn run(args: PointsetsArgs) -> Result<()> {
-    let names: Vec<&str> = if args.set == "all" {
-        pointset::ALL.iter().map(|s| s.name()).collect()
-    } else {
-        vec![args.set.as_str()]
-    };
-    if args.plot.is_some() && names.len() != 1 {
-        bail!("--plot draws one set; name it with --set");
-    }
-    for name in names {
-        let points = make(name, &args)?;
-        let stats = measure(name, &points);
-        println!("{stats}");
-        if let Some(path) = &args.plot {
-            plot(&points, &stats, path)?;
-            println!("wrote {}", path.display());
-        }
-    }
-    Ok(())
-}
-
 /// The (u, v, t) points `render pointsets` shows: the set as a frame sampler would make it,
 /// before any pixel shift or warp.
-pub fn make(name: &str, args: &PointsetsArgs) -> Result<Points> {
+/// `temporal`: a product set of n/K positions x K times (the scene setting
+/// `density: {"temporal": K}`).
+pub fn make(name: &str, n: u32, seed: u64, temporal: Option<u32>) -> Result<Points> {
     let set = pointset::by_name(name)?;
-    let split = match args.temporal {
+    let split = match temporal {
         Some(k) => Density::Temporal(k),
         None => Density::Joint,
     };
-    let p = density::points(set, args.n as usize, split, args.seed)
-        .with_context(|| format!("point set {name} with {} points", args.n))?;
+    let p = density::points(set, n as usize, split, seed)
+        .with_context(|| format!("point set {name} with {n} points"))?;
     Ok(Points::from_fn(p.len(), 3, |i, d| p[i][d]))
 }
 
@@ -216,20 +173,10 @@ where
 mod tests {
     use super::*;
 
-    fn args(set: &str, n: u32) -> PointsetsArgs {
-        PointsetsArgs {
-            set: set.into(),
-            n,
-            seed: 1,
-            temporal: None,
-            plot: None,
-        }
-    }
-
     #[test]
     fn plots_are_written_whole_with_the_measurements() {
         let dir = tempfile::tempdir().unwrap();
-        let p = make("hammersley", &args("hammersley", 125)).unwrap();
+        let p = make("hammersley", 125, 1, None).unwrap();
         let s = measure("hammersley", &p);
         let svg = dir.path().join("h.svg");
         plot(&p, &s, &svg).unwrap();
@@ -244,15 +191,7 @@ mod tests {
 
     #[test]
     fn bad_requests_are_explained() {
-        let e = format!(
-            "{:#}",
-            make("stratified", &args("stratified", 100)).unwrap_err()
-        );
+        let e = format!("{:#}", make("stratified", 100, 1, None).unwrap_err());
         assert!(e.contains("64 and 125"), "{e}");
-        let a = PointsetsArgs {
-            plot: Some("x.svg".into()),
-            ..args("all", 8)
-        };
-        assert!(run(a).unwrap_err().to_string().contains("--set"));
     }
 }

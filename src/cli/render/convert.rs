@@ -1,5 +1,5 @@
-//! `render convert IN OUT`: a scene or job from one format into another, by extension
-//! (`.json` <-> `.scene`, `.json` <-> `.job`); see [`crate::convert`].
+//! `blurlab render convert IN OUT`: a scene or job from one format into another, by extension
+//! (`.json` <-> `.scene`, `.json` <-> `.job`); see `renderer::convert`.
 
 use anyhow::Result;
 use clap::Args;
@@ -16,10 +16,10 @@ pub struct ConvertArgs {
 }
 
 pub fn run(args: ConvertArgs) -> Result<()> {
-    let doc = crate::convert::convert(&args.input, &args.output)?;
+    let doc = renderer::convert::convert(&args.input, &args.output)?;
     let what = match doc {
-        crate::convert::Document::Scene(_) => "scene",
-        crate::convert::Document::Job(_) => "job",
+        renderer::convert::Document::Scene(_) => "scene",
+        renderer::convert::Document::Job(_) => "job",
     };
     println!(
         "wrote {} ({what} from {})",

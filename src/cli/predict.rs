@@ -1,19 +1,17 @@
-//! `blurlab predict <stimulus set>`: the command line over [`super::stimuli::predict`],
-//! [`super::output::write`] and [`super::calibrate`]; `blurlab predict validate modelfest DIR`
-//! over [`super::validate`].
+//! `blurlab predict <stimulus set>`, `predict validate modelfest DIR`, `predict frames`,
+//! `predict explain`: the flags of `analysis::predict::options`, whose defaults they repeat (a
+//! test checks that they agree), and what each prints.
 
-use super::calibrate::{Calibration, calibrate, cells, markdown};
-use super::decision::DEFAULT_K;
-use super::output::{Files, write};
-use super::stage::Stage;
-use super::stimuli::{PredictSettings, Prediction, predict, with_k};
-use crate::data::Dataset;
-use anyhow::{Result, bail};
+use crate::cli::progress::{Look, Terminal};
+use analysis::predict::decision::DEFAULT_K;
+use analysis::predict::options::{
+    ExplainOptions, FramesOptions, PredictOptions, combine_frames, explain, run_predict,
+    validate_modelfest,
+};
+use analysis::predict::video::Comparison;
+use anyhow::Result;
 use clap::{Args, Subcommand};
-use experiment::Design;
-use experiment::display::DisplaySpec;
-use renderer::progress::terminal::{Look, Terminal};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// `blurlab predict`: a stimulus set's prediction, or a validation subcommand.
 #[derive(Args, Clone, Debug)]
@@ -69,60 +67,19 @@ pub struct ExplainArgs {
     pub out: Option<PathBuf>,
 }
 
-/// Explain one pair; returns the table.
-pub fn explain(args: &ExplainArgs) -> Result<String> {
-    let design = args.design.as_deref().map(Design::load).transpose()?;
-    let display = display_spec(design.as_ref(), args.distance_m, args.viewer.as_deref())?;
-    let table = super::explain::pair(&args.stimuli, &args.test, &args.reference, &display)?;
-    if let Some(out) = &args.out {
-        renderer::atomic::write_atomic(out, table.as_bytes())?;
-    }
-    Ok(table)
-}
-
-/// The design's display block (or the default display), at `--distance-m` if given, or at the
-/// geometry the `--viewer` log holds.
-fn display_spec(
-    design: Option<&Design>,
-    distance_m: Option<f64>,
-    viewer: Option<&Path>,
-) -> Result<DisplaySpec> {
-    let mut d: DisplaySpec = design
-        .and_then(|d| d.file.display.clone())
-        .unwrap_or_default();
-    if let Some(m) = distance_m {
-        d.distance_m = m;
-    }
-    match viewer {
-        Some(log) => super::viewer::display_for_session(log, &d),
-        None => Ok(d),
-    }
-}
-
 #[derive(Args, Clone, Debug)]
 pub struct FramesArgs {
     /// The frames' predictions (predicted.csv files or the folders holding them).
     #[arg(required = true, num_args = 1..)]
     pub predictions: Vec<PathBuf>,
     /// Minkowski exponent over frames [default: the model's fitted time exponent].
-    #[arg(long, default_value_t = super::pooling::FITTED.space, allow_hyphen_values = true,
+    #[arg(long, default_value_t = analysis::predict::pooling::FITTED.space, allow_hyphen_values = true,
           value_parser = renderer::limits::real(1.0, f64::INFINITY, false,
               "a Minkowski exponent over frames (inf: the most visible frame)"))]
     pub exponent: f64,
     /// Also write the table to this file (Markdown).
     #[arg(long)]
     pub out: Option<PathBuf>,
-}
-
-/// Combine single-frame predictions; returns the table.
-pub fn combine_frames(args: &FramesArgs) -> Result<String> {
-    let frames = super::frames::load_all(&args.predictions)?;
-    let jnds = super::frames::combine(&frames, args.exponent)?;
-    let table = super::frames::markdown(&frames, &jnds, args.exponent);
-    if let Some(out) = &args.out {
-        renderer::atomic::write_atomic(out, table.as_bytes())?;
-    }
-    Ok(table)
 }
 
 #[derive(Subcommand, Clone, Debug)]
@@ -141,23 +98,6 @@ pub struct ModelfestArgs {
     /// Hide the progress bar.
     #[arg(long)]
     pub no_progress: bool,
-}
-
-/// Validate against ModelFest; returns the report (its last line the RMS error).
-pub fn validate_modelfest(args: &ModelfestArgs) -> Result<String> {
-    let stimuli = super::modelfest::load(&args.dir)?;
-    let bar = Terminal::new(Look::Steps, !args.no_progress);
-    let r = super::validate::responses(
-        &stimuli,
-        &super::validate::grid(),
-        &super::validate::shapes(),
-        &bar,
-    )?;
-    let report = super::validate::markdown(&super::validate::validate(&stimuli, &r)?);
-    if let Some(out) = &args.out {
-        renderer::atomic::write_atomic(out, format!("{report}\n").as_bytes())?;
-    }
-    Ok(report)
 }
 
 /// Predict how visible each stimulus's noise is, from its display frames.
@@ -199,14 +139,14 @@ pub struct PredictArgs {
     pub no_progress: bool,
 }
 
-/// `--decision`: the command line's names of [`super::video::Comparison`].
+/// `--decision`: the command line's names of `analysis::predict::video::Comparison`.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Decision {
     Difference,
     SideBySide,
 }
 
-impl From<Decision> for super::video::Comparison {
+impl From<Decision> for Comparison {
     fn from(d: Decision) -> Self {
         match d {
             Decision::Difference => Self::Difference,
@@ -215,56 +155,105 @@ impl From<Decision> for super::video::Comparison {
     }
 }
 
-/// What the command produced.
-pub struct Outcome {
-    pub prediction: Prediction,
-    pub files: Files,
-    pub calibration: Option<Calibration>,
+impl PredictArgs {
+    /// The options these flags ask for.
+    pub fn options(&self) -> PredictOptions {
+        PredictOptions {
+            stimuli: self.stimuli.clone(),
+            design: self.design.clone(),
+            out: self.out.clone(),
+            sensitivity: self.sensitivity,
+            distance_m: self.distance_m,
+            viewer: self.viewer.clone(),
+            decision: self.decision.map(Comparison::from),
+            calibrate: self.calibrate.clone(),
+        }
+    }
 }
 
-pub fn run(args: &PredictArgs) -> Result<Outcome> {
-    if !(args.sensitivity.is_finite() && args.sensitivity > 0.0) {
-        bail!(
-            "--sensitivity is {}; expected a positive number",
-            args.sensitivity
-        );
+impl ExplainArgs {
+    /// The options these flags ask for.
+    pub fn options(&self) -> ExplainOptions {
+        ExplainOptions {
+            stimuli: self.stimuli.clone(),
+            test: self.test.clone(),
+            reference: self.reference.clone(),
+            design: self.design.clone(),
+            distance_m: self.distance_m,
+            viewer: self.viewer.clone(),
+            out: self.out.clone(),
+        }
     }
-    let design = args.design.as_deref().map(Design::load).transpose()?;
-    let settings = PredictSettings {
-        display: display_spec(design.as_ref(), args.distance_m, args.viewer.as_deref())?,
-        k: args.sensitivity,
-        stage: match args.decision {
-            Some(d) => Stage::given(d.into()),
-            None => Stage::for_layout(design.as_ref().map(|d| d.file.layout)),
-        },
+}
+
+impl FramesArgs {
+    /// The options these flags ask for.
+    pub fn options(&self) -> FramesOptions {
+        FramesOptions {
+            predictions: self.predictions.clone(),
+            exponent: self.exponent,
+            out: self.out.clone(),
+        }
+    }
+}
+
+/// `blurlab predict`: run the subcommand or predict the set, and print the result.
+pub fn run(cli: &PredictCli) -> Result<()> {
+    let args = match (&cli.command, &cli.args) {
+        (Some(PredictCommand::Validate { data }), _) => {
+            let ValidateData::Modelfest(m) = data;
+            let bar = Terminal::new(Look::Steps, !m.no_progress);
+            println!("{}", validate_modelfest(&m.dir, m.out.as_deref(), &bar)?);
+            return Ok(());
+        }
+        (Some(PredictCommand::Frames(f)), _) => {
+            println!("{}", combine_frames(&f.options())?);
+            return Ok(());
+        }
+        (Some(PredictCommand::Explain(e)), _) => {
+            println!("{}", explain(&e.options())?);
+            return Ok(());
+        }
+        (None, Some(args)) => args,
+        (None, None) => anyhow::bail!("blurlab predict: give a stimulus set or a subcommand"),
     };
     let bar = Terminal::new(Look::Steps, !args.no_progress);
-    let mut prediction = predict(&args.stimuli, design.as_ref(), &settings, &bar)?;
-    let out = args.out.clone().unwrap_or_else(|| {
-        PathBuf::from("results")
-            .join(&prediction.job)
-            .join("predict")
-    });
-    let mut calibration = None;
-    if !args.calibrate.is_empty() {
-        let ds = Dataset::read(&args.calibrate)?;
-        let c = calibrate(cells(&prediction, &ds)?);
-        std::fs::create_dir_all(&out)?;
-        renderer::atomic::write_atomic(
-            &out.join("calibration.md"),
-            markdown(&c, args.sensitivity).as_bytes(),
-        )?;
-        renderer::atomic::write_atomic(
-            &out.join("calibration.json"),
-            serde_json::to_string_pretty(&c)?.as_bytes(),
-        )?;
-        prediction = with_k(&prediction, c.k);
-        calibration = Some(c);
+    let out = run_predict(&args.options(), &bar)?;
+    if let Some(c) = &out.calibration {
+        println!("calibrated sensitivity constant k = {:.4}", c.k);
     }
-    let files = write(&prediction, &out)?;
-    Ok(Outcome {
-        prediction,
-        files,
-        calibration,
-    })
+    println!("{}", analysis::predict::output::jnd_table(&out.prediction));
+    println!("prediction: {}", out.files.predicted_csv.display());
+    println!("report:     {}", out.files.markdown.display());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        predict: PredictCli,
+    }
+
+    fn parse(argv: &[&str]) -> PredictCli {
+        Cli::try_parse_from([&["predict"][..], argv].concat())
+            .unwrap()
+            .predict
+    }
+
+    #[test]
+    fn the_flags_defaults_are_the_options_defaults() {
+        let set = parse(&["stimuli/demo"]).args.unwrap();
+        assert_eq!(set.options(), PredictOptions::new("stimuli/demo".into()));
+        let Some(PredictCommand::Frames(f)) = parse(&["frames", "a.csv"]).command else {
+            panic!("frames parses as the subcommand");
+        };
+        assert_eq!(f.options(), FramesOptions::new(vec!["a.csv".into()]));
+        let set = parse(&["s", "--decision", "side-by-side"]).args.unwrap();
+        assert_eq!(set.options().decision, Some(Comparison::SideBySide));
+    }
 }

@@ -1,4 +1,4 @@
-//! `render report stimuli/<job>`: speed against error tables and plots.
+//! `blurlab render report stimuli/<job>`: speed against error tables and plots.
 
 use anyhow::Result;
 use clap::Args;
@@ -17,7 +17,7 @@ pub struct ReportArgs {
 
 pub fn run(args: ReportArgs) -> Result<()> {
     let out = args.out.unwrap_or_else(|| args.stimuli.join("report"));
-    let files = crate::convergence::write_report(&args.stimuli, &out)?;
+    let files = renderer::convergence::write_report(&args.stimuli, &out)?;
     println!("wrote {}", files.csv.display());
     println!("wrote {}", files.slopes_csv.display());
     for f in &files.figures {

@@ -1,11 +1,11 @@
-//! `render job <job.json | job.job>`: render a stimulus set (or one shard of it), finalize it, estimate
+//! `blurlab render job <job.json | job.job>`: render a stimulus set (or one shard of it), finalize it, estimate
 //! it, or write a Slurm job-array script for it.
 
-use crate::job::slurm::{SlurmOptions, emitted_message, script};
-use crate::job::{Finalize, Job, RunOptions, Shard};
-use crate::progress::terminal::{Look, Terminal};
+use crate::cli::progress::{Look, Terminal};
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use renderer::job::slurm::{SlurmOptions, emitted_message, script};
+use renderer::job::{Finalize, Job, RunOptions, Shard};
 use std::path::{Path, PathBuf};
 
 /// Render every stimulus of a job into <out>/<job name>/ (resumable; rerun to finish).
@@ -41,7 +41,7 @@ pub struct JobArgs {
     pub shards: u32,
     /// CPUs per array task for --emit-slurm: a node must have at least this many, or Slurm
     /// keeps the tasks pending (the stimuli do not depend on it).
-    #[arg(long, default_value_t = 4, value_parser = crate::limits::parse_cpus,
+    #[arg(long, default_value_t = 4, value_parser = renderer::limits::parse_cpus,
           allow_hyphen_values = true)]
     pub cpus_per_task: u32,
     /// Hide the progress bar.
@@ -59,7 +59,7 @@ pub fn run(args: JobArgs) -> Result<()> {
         return emit_slurm(&job, &args, path);
     }
     if args.dry_run {
-        let (dry, warnings) = crate::job::dry_run(&job, shard)?;
+        let (dry, warnings) = renderer::job::dry_run(&job, shard)?;
         super::print_warnings(&warnings);
         print!("{dry}");
         return Ok(());
@@ -76,7 +76,7 @@ pub fn run(args: JobArgs) -> Result<()> {
         },
     };
     let bar = Terminal::new(Look::Job, !args.no_progress);
-    let report = crate::job::run(&job, &opts, &bar)?;
+    let report = renderer::job::run(&job, &opts, &bar)?;
     super::print_warnings(&report.warnings);
     println!(
         "{}: rendered {} frames, {} already done, {} missing in the job",
@@ -88,12 +88,12 @@ pub fn run(args: JobArgs) -> Result<()> {
     match &report.manifest {
         Some(m) => println!(
             "wrote {} ({} stimuli)",
-            crate::manifest::manifest_file(&report.job_dir).display(),
+            renderer::manifest::manifest_file(&report.job_dir).display(),
             m.stimuli.len()
         ),
         None if report.frames_missing > 0 => println!(
             "manifest not written yet: other shards still have frames to render; finish with \
-             `render job {} --out {} --finalize`",
+             `blurlab render job {} --out {} --finalize`",
             args.job.display(),
             args.out.display()
         ),
@@ -115,7 +115,7 @@ fn emit_slurm(job: &Job, args: &JobArgs, path: &Path) -> Result<()> {
     }
     // A time limit per task from the calibration estimate, with a 2x margin for slower nodes
     // and imbalance.
-    let (dry, warnings) = crate::job::dry_run(
+    let (dry, warnings) = renderer::job::dry_run(
         job,
         Shard {
             index: 1,
@@ -125,10 +125,7 @@ fn emit_slurm(job: &Job, args: &JobArgs, path: &Path) -> Result<()> {
     super::print_warnings(&warnings);
     let per_task = dry.estimated_shard_seconds;
     let exe = std::env::current_exe().context("cannot locate this program")?;
-    let mut command = vec![exe.display().to_string()];
-    if exe.file_stem().is_some_and(|s| s != "render") {
-        command.push("render".into()); // the umbrella binary: `blurlab render job ...`
-    }
+    let command = vec![exe.display().to_string(), "render".into()];
     let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
     let options = SlurmOptions {
         command,
@@ -137,7 +134,7 @@ fn emit_slurm(job: &Job, args: &JobArgs, path: &Path) -> Result<()> {
         time_limit_seconds: (2.0 * per_task).ceil() as u64 + 600,
     };
     let text = script(&job.name, &abs(&args.job), &abs(&args.out), &options);
-    crate::atomic::write_atomic(path, text.as_bytes())?;
+    renderer::atomic::write_atomic(path, text.as_bytes())?;
     println!("{}", emitted_message(path, &options));
     Ok(())
 }
