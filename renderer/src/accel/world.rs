@@ -15,8 +15,10 @@
 //! [`TriangleMesh::new`]: crate::geometry::TriangleMesh::new
 
 use super::cull::CullBox;
-use super::packet::{RayPacket, SmallWorld};
-use super::pose::{Pose, PoseCache, PoseOverTime, Spins};
+use super::instant::Pose;
+use super::lanes::RayPacket;
+use super::packet::SmallWorld;
+use super::pose::{PoseCache, PoseOverTime, Spins};
 use super::slices::{SLICES, Slices};
 use super::swept::swept_bounds;
 use super::{Instance, SurfaceHit};
@@ -163,7 +165,7 @@ impl World {
     }
 
     /// The shutter interval the top level was built for.
-    pub(super) fn shutter(&self) -> (f32, f32) {
+    pub(crate) fn shutter(&self) -> (f32, f32) {
         self.shutter
     }
 
