@@ -196,7 +196,7 @@ impl World {
             }
         };
         if self.in_shutter(ray) {
-            if let Some(boxes) = BoxRay::new(ray) {
+            if let Some(boxes) = BoxRay::new(ray.origin, ray.dir) {
                 let top = self.top.at(ray.time);
                 t_max = top.closest(&boxes, t_max, |leaf, t_max| {
                     let mut t = t_max;
@@ -245,7 +245,7 @@ impl World {
         if !self.in_shutter(ray) {
             return (0..self.instances.len() as u32).any(blocks);
         }
-        let top = BoxRay::new(ray).is_some_and(|boxes| {
+        let top = BoxRay::new(ray.origin, ray.dir).is_some_and(|boxes| {
             let top = self.top.at(ray.time);
             top.any(&boxes, ray.t_max, |leaf| {
                 top.leaf(leaf)
