@@ -212,7 +212,7 @@ fn code_of(text: &str) -> String {
     let c: Vec<char> = text.chars().collect();
     let ident = |i: usize| c[i].is_alphanumeric() || c[i] == '_';
     let (mut out, mut i) = (String::new(), 0);
-    // Skips to `end` (exclusive of what follows), keeping the line breaks passed.
+    // Moves from `from` to `to`, keeping the line breaks passed over.
     let skip = |out: &mut String, from: usize, to: usize| {
         out.extend(c[from..to.min(c.len())].iter().filter(|&&ch| ch == '\n'));
         to
@@ -256,7 +256,8 @@ fn code_of(text: &str) -> String {
             out.push_str("\"\"");
             i = skip(&mut out, i, k + 1);
         } else if c[i] == '\'' && next(1) == '\\' {
-            let end = (i + 2..c.len()).find(|&k| c[k] == '\'').unwrap_or(c.len());
+            // `'\''`, `'\n'`, `'\u{7f}'`: the escaped character is at i + 2.
+            let end = (i + 3..c.len()).find(|&k| c[k] == '\'').unwrap_or(c.len());
             i = end + 1;
         } else if c[i] == '\'' && next(2) == '\'' {
             i += 3;
@@ -523,6 +524,7 @@ fn one_way_imports_parts_tests_and_comments_pass() {
         (
             "b/mod.rs",
             "mod c;\nuse c::C;\npub struct B(C);\nconst S: &str = \"crate::a::A\";\n\
+             const Q: [char; 2] = ['\\'', '\"'];\nconst R: &str = r#\"crate::a\"#;\n\
              #[cfg(test)]\nfn check(\n    a: crate::a::A,\n) -> u32 {\n    0\n}\n",
         ),
         ("b/c.rs", "pub struct C(Option<Box<super::B>>);\n"),
