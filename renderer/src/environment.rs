@@ -23,8 +23,8 @@ use std::f32::consts::PI;
 use std::path::Path;
 
 use crate::math;
-use crate::scene::file::NegativeTexels;
 use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
 
 /// Largest radiance kept from a map. Real HDR captures peak around 1e5 (the sun; half floats
 /// stop at 65504), so this only removes broken values while keeping sums of thousands of
@@ -37,6 +37,36 @@ pub const MAX_RADIANCE: f32 = 1e6;
 /// map above 0.1% has lost light in a way that clamping would visibly change (clamping adds
 /// that energy to the sky).
 pub const MAX_NEGATIVE_SHARE: f64 = 1e-3;
+
+/// How a scene asks negative texels to be treated (`environment.negatives`; absent: by
+/// [`MAX_NEGATIVE_SHARE`]).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum NegativeTexels {
+    /// Set them to 0 whatever energy they carry (the map gains that energy).
+    Clamp,
+    /// Refuse a map with any negative texel.
+    Refuse,
+}
+
+impl NegativeTexels {
+    pub const NAMES: [&'static str; 2] = ["clamp", "refuse"];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Clamp => "clamp",
+            Self::Refuse => "refuse",
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "clamp" => Some(Self::Clamp),
+            "refuse" => Some(Self::Refuse),
+            _ => None,
+        }
+    }
+}
 
 #[derive(Clone, Debug)]
 pub struct Environment {

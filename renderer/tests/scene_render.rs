@@ -433,8 +433,7 @@ fn third_party_models_and_maps_load_and_render_without_nan() {
 /// clamped with a warning below it.
 #[test]
 fn third_party_maps_negative_texels_are_counted_and_refused_above_the_share() {
-    use renderer::environment::{Environment, MAX_NEGATIVE_SHARE};
-    use renderer::scene::file::NegativeTexels;
+    use renderer::environment::{Environment, MAX_NEGATIVE_SHARE, NegativeTexels};
     let Some(assets) = shared_assets() else {
         eprintln!("skipped: no ../shared/assets folder (set BLURLAB_SHARED_ASSETS to use one)");
         return;

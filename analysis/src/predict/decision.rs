@@ -55,6 +55,9 @@ pub fn two_ifc_p_correct(d_prime: f64) -> f64 {
     phi(d_prime / std::f64::consts::SQRT_2)
 }
 
+/// ModelFest's threshold criterion, proportion correct in 2IFC (at d' = 1.4072).
+pub const CRITERION: f64 = 0.84;
+
 /// d' at which 2IFC detection is `p` correct (0.5 < p < 1): sqrt 2 Phi^-1(p).
 pub fn two_ifc_d_prime_for(p: f64) -> Option<f64> {
     (p > 0.5 && p < 1.0).then(|| std::f64::consts::SQRT_2 * inverse_phi(p))

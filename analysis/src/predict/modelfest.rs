@@ -31,8 +31,6 @@ pub const DURATION: f64 = 0.5;
 /// Frame rate and length of the video the model sees.
 pub const FPS: f64 = 30.0;
 pub const VIDEO_SECONDS: f64 = 1.0;
-/// ModelFest's threshold criterion, proportion correct in 2IFC.
-pub const CRITERION: f64 = 0.84;
 /// Side of every ModelFest stimulus, pixels (256 px at 120 px/deg: 2.13 deg). The model's
 /// viewing assumes it: another size would be another experiment.
 pub const SIDE: usize = 256;

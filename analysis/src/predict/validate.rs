@@ -14,8 +14,8 @@
 //! the least squared error. Leave-one-out refits everything without each stimulus and
 //! predicts that one.
 
-use super::decision::two_ifc_d_prime_for;
-use super::modelfest::{CRITERION, Stimulus, response};
+use super::decision::{CRITERION, two_ifc_d_prime_for};
+use super::modelfest::{Stimulus, response};
 use super::pooling::{Grid, Pooling};
 use super::shape::Shape;
 use anyhow::{Result, bail};

@@ -161,7 +161,7 @@ impl Filters {
     /// side-by-side stage's knee is the detection threshold of ModelFest's fit
     /// ([`super::transducer::knee`] with [`super::decision::DEFAULT_K`]).
     pub fn comparing(self, comparison: Comparison, space: f64) -> Self {
-        let d84 = super::decision::two_ifc_d_prime_for(super::modelfest::CRITERION)
+        let d84 = super::decision::two_ifc_d_prime_for(super::decision::CRITERION)
             .expect("the criterion is inside (0.5, 1)");
         let a0 = knee(
             d84,

@@ -20,7 +20,7 @@
 //! (`accel::packet`'s and `render`'s bit-identity tests). Rays whose time lies outside the
 //! shutter never come here (they are not `simple`).
 
-use super::packet::{Lane, RayPacket, SLACK, dot};
+use super::lanes::{Lane, RayPacket, SLACK, dot};
 use crate::geometry::Bounds;
 use glam::Vec3A;
 

@@ -14,8 +14,8 @@
 //! 3x3 products, instead of evaluating every layer's quaternion, multiplying the affine maps
 //! and inverting the result.
 
-use super::packet::Lane;
-use super::pose::Pose;
+use super::instant::Pose;
+use super::lanes::Lane;
 use crate::math;
 use crate::motion::{Motion, MotionLayer};
 use glam::{Mat3A, Vec3, Vec3A};

@@ -21,7 +21,7 @@
 //! a NaN, an origin inside the box) are kept; a world with unbounded instances (infinite
 //! planes) culls nothing.
 
-use super::packet::{LANES, Lane, RayPacket};
+use super::lanes::{LANES, Lane, RayPacket};
 use crate::geometry::Bounds;
 
 /// Growth of the box per unit of the scene's size (its diagonal plus its largest coordinate).

@@ -1,16 +1,19 @@
 //! The scene as rays see it in one frame: every instance of every shape, posed at the ray's time.
 //!
 //! [`World`] is a two-level structure (top level over instances' swept bounds, per-mesh BVHs in
-//! object space); [`pose`] is how an instance's pose depends on time; [`swept`] its bounds over
-//! a shutter interval; [`chain`] the per-ray form of a spinning pose; [`packet`] the packet
-//! form of a world of a few spheres and planes (eight rays at once, bit for bit the scalar
-//! results; `orbits` its orbiting spheres' centres and groups, `around` each grouped one's bound
-//! over the shutter); [`cull`] one box around the world, which tells a packet's rays that surely
-//! hit nothing. See `docs/geometry.md`.
+//! object space); [`instant`] is an instance's pose at one time, [`pose`] how it depends on
+//! time; [`swept`] its bounds over a shutter interval; [`chain`] the per-ray form of a spinning
+//! pose; [`lanes`] rays and vectors eight at a time, which the packet code shares (it imports
+//! nothing else of `accel`); [`packet`] the packet form of a world of a few spheres and planes
+//! (eight rays at once, bit for bit the scalar results; `orbits` its orbiting spheres' centres
+//! and groups, `around` each grouped one's bound over the shutter); [`cull`] one box around the
+//! world, which tells a packet's rays that surely hit nothing. See `docs/geometry.md`.
 
 mod around;
 pub mod chain;
 mod cull;
+pub mod instant;
+pub mod lanes;
 mod orbits;
 pub mod packet;
 pub mod pose;

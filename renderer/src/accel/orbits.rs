@@ -40,7 +40,7 @@
 //! [`SpinChain::centre`]: super::chain::SpinChain::centre
 
 use super::chain::{OneSpin, Spin};
-use super::packet::{Lane, RayPacket, SLACK, dot, mul};
+use super::lanes::{Lane, MAX_INSTANCES, RayPacket, SLACK, dot, mul};
 use super::pose::Orbit;
 use glam::{Mat3A, Vec3A};
 use std::cell::Cell;
@@ -53,7 +53,7 @@ pub(crate) const MAX_GROUPS: usize = 4;
 pub(crate) const MAX_SPINS: usize = 4;
 
 /// At most this many orbiting spheres in a packet form (as many as it has instances).
-pub(crate) const MAX_ORBITS: usize = super::packet::MAX_INSTANCES;
+pub(crate) const MAX_ORBITS: usize = MAX_INSTANCES;
 
 /// An orbiting sphere's chain of one spin, and the index of its spin.
 #[derive(Clone, Copy, Debug)]

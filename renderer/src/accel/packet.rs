@@ -31,33 +31,23 @@
 //! rays, which carry the same times. Other spinning instances are not packet-eligible.
 //!
 //! [`SpinChain::centre`]: super::chain::SpinChain::centre
+//! [`World`]: super::World
+//! [`World::intersect`]: super::World::intersect
+//! [`World::occluded`]: super::World::occluded
 
 use super::Instance;
-#[cfg(test)]
-use super::SurfaceHit;
-use super::World;
 use super::around::Around;
+use super::instant::Pose;
+use super::lanes::{Lane, MAX_INSTANCES, RayPacket, SLACK, dot, lane_mask, mul, point_at};
 pub(crate) use super::orbits::Centres;
 use super::orbits::Orbits;
-use super::pose::{Pose, PoseOverTime, Spins};
-use crate::geometry::{Bounds, Ray, Shape};
+use super::pose::{PoseOverTime, Spins};
+#[cfg(test)]
+use super::{SurfaceHit, World, lanes::LANES};
+#[cfg(test)]
+use crate::geometry::Ray;
+use crate::geometry::{Bounds, Shape};
 use glam::{Mat3A, Vec3A};
-
-/// Rays per packet: the lanes of [`Lane`]. (With baseline x86-64's SSE2, `f32x8` is two
-/// `f32x4` halves per operation: no wider arithmetic, but two independent latency chains
-/// interleaved.)
-pub const LANES: usize = 8;
-
-/// One `f32` per ray of a packet.
-pub type Lane = wide::f32x8;
-
-/// At most this many instances: brute force tests each for every ray (an orbiting group's
-/// spheres only where its bound lets a lane through, `accel::orbits`), and past some number
-/// the top-level BVH (which skips most of them) wins even against a packet. The thesis's
-/// spheres scene, 22 instances (20 of them orbiting in 3 groups), takes 0.73x the time and
-/// 0.93x the instructions in packets, mirror bounces included, that it takes through the top
-/// level (measured at spin6, commit 1615eed's `docs/benchmarks/lanes.md`); larger worlds were not measured.
-pub const MAX_INSTANCES: usize = 24;
 
 /// The packet form of a world of at most [`MAX_INSTANCES`] spheres and planes.
 #[derive(Clone, Debug)]
@@ -138,7 +128,7 @@ impl SmallPose {
     }
 
     /// The unit world-space normal of the object-space normal `local`: through the inverse
-    /// transpose, normalised, as [`World::intersect`] does it.
+    /// transpose, normalised, as `World::intersect` does it.
     #[inline(always)]
     fn world_normal(&self, local: [Lane; 3]) -> [Lane; 3] {
         let world = match self.matrix {
@@ -168,32 +158,6 @@ impl SmallPose {
     }
 }
 
-/// `m * v` lane by lane in glam's order: `(x_axis v.x + y_axis v.y) + z_axis v.z`.
-#[inline(always)]
-pub(crate) fn mul(m: &Mat3A, v: [Lane; 3]) -> [Lane; 3] {
-    let (cx, cy, cz) = (
-        m.x_axis.to_array(),
-        m.y_axis.to_array(),
-        m.z_axis.to_array(),
-    );
-    std::array::from_fn(|k| {
-        Lane::splat(cx[k]) * v[0] + Lane::splat(cy[k]) * v[1] + Lane::splat(cz[k]) * v[2]
-    })
-}
-
-/// glam's SSE2 `Vec3A::dot`, lane by lane.
-#[inline(always)]
-pub(crate) fn dot(a: &[Lane; 3], b: &[Lane; 3]) -> Lane {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// All bits set in the lanes of `bits` (bit `i` for lane `i`), clear in the others.
-#[inline(always)]
-pub(crate) fn lane_mask(bits: u32) -> Lane {
-    let bit = wide::i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
-    wide::bytemuck::cast((wide::i32x8::splat(bits as i32) & bit).simd_eq(bit))
-}
-
 /// `f32::min` / `f32::max` lane by lane where it matters: a NaN operand gives the other one.
 /// (Which zero two equal zeros give does not matter: a zero is never above `t_min = 0`.)
 #[inline(always)]
@@ -203,68 +167,6 @@ fn min_max(a: Lane, b: Lane) -> (Lane, Lane) {
     let max_is_b = a.simd_lt(b) | a_nan;
     (min_is_b.bitselect(b, a), max_is_b.bitselect(b, a))
 }
-
-/// [`LANES`] rays, lane `i` holding ray `i` (only origin, direction, time and `t_max`: the lanes
-/// traced here all have `t_min = 0`).
-#[derive(Clone, Copy, Debug)]
-pub struct RayPacket {
-    pub(crate) origin: [Lane; 3],
-    pub(crate) dir: [Lane; 3],
-    pub(crate) time: Lane,
-    pub(crate) t_max: Lane,
-}
-
-impl RayPacket {
-    /// The lanes of `simple` (not empty); the others repeat one of them, so that no lane
-    /// computes with a NaN or a zero direction (their results are dropped anyway).
-    #[cfg(test)]
-    fn of(rays: &[Ray; LANES], simple: u32) -> Self {
-        let first = &rays[simple.trailing_zeros() as usize];
-        Self::new(&std::array::from_fn(|i| {
-            if simple & (1 << i) != 0 {
-                rays[i]
-            } else {
-                *first
-            }
-        }))
-    }
-
-    /// Rays laid out one by one, in lanes (the tests build their packets so; the renderer
-    /// makes its packets in lanes from the start).
-    #[cfg(test)]
-    pub fn new(rays: &[Ray; LANES]) -> Self {
-        let lanes = |v: [Vec3A; LANES]| -> [Lane; 3] {
-            let v = v.map(|v| v.to_array());
-            std::array::from_fn(|k| Lane::new(std::array::from_fn(|i| v[i][k])))
-        };
-        Self {
-            origin: lanes(rays.each_ref().map(|r| r.origin)),
-            dir: lanes(rays.each_ref().map(|r| r.dir)),
-            time: Lane::new(rays.each_ref().map(|r| r.time)),
-            t_max: Lane::new(rays.each_ref().map(|r| r.t_max)),
-        }
-    }
-
-    /// Lane `i` as a ray (for the lanes the scalar path takes).
-    pub(crate) fn lane(&self, i: usize) -> Ray {
-        let v =
-            |c: &[Lane; 3]| Vec3A::new(c[0].as_array()[i], c[1].as_array()[i], c[2].as_array()[i]);
-        Ray {
-            origin: v(&self.origin),
-            dir: v(&self.dir),
-            time: self.time.as_array()[i],
-            t_min: 0.0,
-            t_max: self.t_max.as_array()[i],
-        }
-    }
-}
-
-/// The rounding slack of the lanes' "passes clearly outside" tests (the spheres' and the
-/// spinning groups' bounds, `accel::orbits`): `64u` of the squared distance's largest term.
-/// `a |o|^2 - (o·d)^2` is computed with an error of at most `8u a |o|^2` (`(o·d)^2 <= a |o|^2`),
-/// and a line that passes at distance `D` with `D^2 > r^2 + 64u |o|^2` (and `D <= |o|`) passes
-/// at least `32u |o|` outside `r`, more than the foot's rounding in the exact test.
-pub(crate) const SLACK: f32 = 64.0 * f32::EPSILON / 2.0;
 
 /// The nearest sphere root in `(0, t_max)` per lane ([`crate::geometry::Sphere::closest`]'s
 /// arithmetic), `+inf` where there is none; only the lanes of `active` need be right. `a` is
@@ -338,12 +240,6 @@ fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, ac
     ok.bitselect(t, Lane::splat(f32::INFINITY))
 }
 
-/// `o + d t` lane by lane ([`Ray::at`]).
-#[inline(always)]
-pub(crate) fn point_at(o: &[Lane; 3], d: &[Lane; 3], t: Lane) -> [Lane; 3] {
-    std::array::from_fn(|k| o[k] + d[k] * t)
-}
-
 /// The lanes as vectors.
 #[cfg(test)]
 fn lanes_of(v: &[Lane; 3]) -> [Vec3A; LANES] {
@@ -363,7 +259,7 @@ fn normalize_or_zero(v: [Lane; 3]) -> [Lane; 3] {
 impl SmallShape {
     /// The unit world-space normal at parameter `t` of each lane's ray (geometric and shading
     /// normal alike for spheres and planes): the object-space normal ([`Shape::surface`]),
-    /// through the inverse transpose, normalised, as [`World::intersect`] does it.
+    /// through the inverse transpose, normalised, as `World::intersect` does it.
     #[inline(always)]
     fn world_normal(&self, ray: &RayPacket, t: Lane, centres: &Centres) -> [Lane; 3] {
         match self.kind {
@@ -396,7 +292,7 @@ impl SmallShape {
 
 impl SmallWorld {
     /// The packet form of a world with these instances, their shapes as their poses place
-    /// them, their poses and the distinct spins ([`World`]'s), or `None` if it has a mesh, a
+    /// them, their poses and the distinct spins (`World`'s), or `None` if it has a mesh, a
     /// spinning instance other than a sphere orbiting under one spin, or more than
     /// [`MAX_INSTANCES`] instances.
     /// `swept` holds each instance's padded box over the shutter.
@@ -471,7 +367,7 @@ impl SmallWorld {
 }
 
 /// Rays laid out one by one: the entry points of the bit-identity tests, which hold these
-/// answers against [`World::intersect`] and [`World::occluded`]. They wrap the packet API
+/// answers against `World::intersect` and `World::occluded`. They wrap the packet API
 /// below ([`SmallWorld::nearest`], [`SmallShape::world_normal`], [`SmallWorld::blocked`]),
 /// which is what the renderer calls with rays that stay in lanes.
 #[cfg(test)]
@@ -484,7 +380,7 @@ impl SmallWorld {
         lanes & live
     }
 
-    /// [`World::intersect`] for each live lane (bit `i` of `live`); `None` for the others.
+    /// `World::intersect` for each live lane (bit `i` of `live`); `None` for the others.
     pub fn intersect_lanes(
         &self,
         world: &World,
@@ -509,7 +405,7 @@ impl SmallWorld {
     }
 
     /// The world-space hits of the lanes of `simple` that hit one instance first
-    /// ([`World::intersect`]'s last step), one instance at a time for the lanes it won;
+    /// (`World::intersect`'s last step), one instance at a time for the lanes it won;
     /// returns the lanes with a tie, left to the scalar path.
     fn surfaces(
         &self,
@@ -549,7 +445,7 @@ impl SmallWorld {
         tie
     }
 
-    /// [`World::occluded`] for each live lane (bit `i` of `live`); `false` for the others.
+    /// `World::occluded` for each live lane (bit `i` of `live`); `false` for the others.
     pub fn occluded_lanes(&self, world: &World, rays: &[Ray; LANES], live: u32) -> [bool; LANES] {
         let simple = Self::simple_lanes(world, rays, live);
         let blocked = match simple {
@@ -574,14 +470,14 @@ impl SmallWorld {
 /// The packet API: rays that stay in lanes from the camera to the shadow test.
 impl SmallWorld {
     /// The lanes of `live` (bit `i` for lane `i`) whose ray this form traces as the scalar
-    /// path does: `simple` (the tests' scalar specification) in lanes (every packet ray has
-    /// `t_min = 0`).
+    /// path of a world with this `shutter` (`World::shutter`) does: `simple` (the tests' scalar
+    /// specification) in lanes (every packet ray has `t_min = 0`).
     #[inline(always)]
-    pub(crate) fn simple_packet(world: &World, ray: &RayPacket, live: u32) -> u32 {
+    pub(crate) fn simple_packet(shutter: (f32, f32), ray: &RayPacket, live: u32) -> u32 {
         let finite = |v: &[Lane; 3]| v[0].is_finite() & v[1].is_finite() & v[2].is_finite();
         let d = &ray.dir;
         let zero = d[0].simd_eq(Lane::ZERO) & d[1].simd_eq(Lane::ZERO) & d[2].simd_eq(Lane::ZERO);
-        let (t0, t1) = world.shutter();
+        let (t0, t1) = shutter;
         let in_shutter = ray.time.simd_ge(Lane::splat(t0)) & ray.time.simd_le(Lane::splat(t1));
         let t_max_ok = ray.t_max.simd_eq(ray.t_max);
         let ok = finite(&ray.origin) & finite(d) & in_shutter & t_max_ok;
@@ -632,7 +528,7 @@ impl SmallWorld {
     }
 
     /// The unit world-space normal of instance `i` at parameter `t` of each lane's ray, as
-    /// [`World::intersect`] gives it (geometric and shading normal alike).
+    /// `World::intersect` gives it (geometric and shading normal alike).
     #[inline]
     pub(crate) fn normal(
         &self,
@@ -644,7 +540,7 @@ impl SmallWorld {
         self.shapes[i].world_normal(ray, t, centres)
     }
 
-    /// [`World::occluded`] for the lanes of `simple` (from [`SmallWorld::simple_packet`]):
+    /// `World::occluded` for the lanes of `simple` (from [`SmallWorld::simple_packet`]):
     /// the lanes blocked.
     #[inline]
     pub(crate) fn blocked(&self, ray: &RayPacket, simple: u32, centres: &Centres) -> u32 {
@@ -957,7 +853,8 @@ mod tests {
                 let packet_rays =
                     (0..LANES).fold(0, |m, i| m | u32::from(rays[i].t_min == 0.0) << i);
                 assert_eq!(
-                    SmallWorld::simple_packet(&world, &RayPacket::new(&rays), live) & packet_rays,
+                    SmallWorld::simple_packet(world.shutter(), &RayPacket::new(&rays), live)
+                        & packet_rays,
                     SmallWorld::simple_lanes(&world, &rays, live) & packet_rays,
                     "world {w}, group {g}"
                 );

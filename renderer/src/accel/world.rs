@@ -15,8 +15,10 @@
 //! [`TriangleMesh::new`]: crate::geometry::TriangleMesh::new
 
 use super::cull::CullBox;
-use super::packet::{RayPacket, SmallWorld};
-use super::pose::{Pose, PoseCache, PoseOverTime, Spins};
+use super::instant::Pose;
+use super::lanes::RayPacket;
+use super::packet::SmallWorld;
+use super::pose::{PoseCache, PoseOverTime, Spins};
 use super::slices::{SLICES, Slices};
 use super::swept::swept_bounds;
 use super::{Instance, SurfaceHit};
@@ -163,7 +165,7 @@ impl World {
     }
 
     /// The shutter interval the top level was built for.
-    pub(super) fn shutter(&self) -> (f32, f32) {
+    pub(crate) fn shutter(&self) -> (f32, f32) {
         self.shutter
     }
 
@@ -194,7 +196,7 @@ impl World {
             }
         };
         if self.in_shutter(ray) {
-            if let Some(boxes) = BoxRay::new(ray) {
+            if let Some(boxes) = BoxRay::new(ray.origin, ray.dir) {
                 let top = self.top.at(ray.time);
                 t_max = top.closest(&boxes, t_max, |leaf, t_max| {
                     let mut t = t_max;
@@ -243,7 +245,7 @@ impl World {
         if !self.in_shutter(ray) {
             return (0..self.instances.len() as u32).any(blocks);
         }
-        let top = BoxRay::new(ray).is_some_and(|boxes| {
+        let top = BoxRay::new(ray.origin, ray.dir).is_some_and(|boxes| {
             let top = self.top.at(ray.time);
             top.any(&boxes, ray.t_max, |leaf| {
                 top.leaf(leaf)

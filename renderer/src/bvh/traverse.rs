@@ -11,7 +11,7 @@
 //! so the lane minimum and maximum agree on every target: the same nodes are visited everywhere.
 
 use super::wide::{Bvh4, LEAF, Node4};
-use crate::geometry::Ray;
+use glam::Vec3A;
 use std::mem::MaybeUninit;
 use wide::f32x4;
 
@@ -25,22 +25,21 @@ pub struct BoxRay {
 }
 
 impl BoxRay {
-    /// `None` for a ray that can hit nothing (a zero or non-finite direction, a non-finite
-    /// origin): no box test has to think about NaN.
+    /// The ray from `origin` along `dir`, or `None` for a ray that can hit nothing (a zero or
+    /// non-finite direction, a non-finite origin): no box test has to think about NaN.
     #[inline]
-    pub fn new(ray: &Ray) -> Option<Self> {
-        if !(ray.origin.is_finite() && ray.dir.is_finite()) || ray.dir == glam::Vec3A::ZERO {
+    pub fn new(origin: Vec3A, dir: Vec3A) -> Option<Self> {
+        if !(origin.is_finite() && dir.is_finite()) || dir == Vec3A::ZERO {
             return None;
         }
         // Exact reciprocals where finite, ±MAX for zero components (`0 * inv` is then 0, not
-        // NaN); see `Ray::traversal_ray`.
-        let inv = ray
-            .dir
+        // NaN); see `geometry::Ray::traversal_ray`.
+        let inv = dir
             .recip()
-            .clamp(glam::Vec3A::splat(-f32::MAX), glam::Vec3A::splat(f32::MAX));
+            .clamp(Vec3A::splat(-f32::MAX), Vec3A::splat(f32::MAX));
         // Named lanes, not `Vec3A[i]` (a runtime index is a three-way branch in glam): this
         // constructor ran at ~60 instructions before.
-        let (o, n) = (ray.origin, |v: f32| usize::from(v.is_sign_negative()));
+        let (o, n) = (origin, |v: f32| usize::from(v.is_sign_negative()));
         Some(Self {
             origin: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
             inv_dir: [
@@ -245,7 +244,7 @@ fn visit_nearest_first(node: &Node4, mask: u32, entry: [f32; 4], stack: &mut Sta
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3A;
+    use crate::geometry::Ray;
     use obvhs::BvhBuildParams;
     use obvhs::aabb::Aabb;
     use obvhs::bvh2::builder::build_bvh2;
@@ -275,7 +274,7 @@ mod tests {
             if k % 3 == 0 {
                 ray.t_max = h(6) * 1.5;
             }
-            let br = BoxRay::new(&ray).unwrap();
+            let br = BoxRay::new(ray.origin, ray.dir).unwrap();
             // Each primitive's own slab test, as the leaf test; the nearest entry wins.
             let entry = |p: u32| {
                 let r = ray.traversal_ray();
@@ -305,9 +304,9 @@ mod tests {
 
     #[test]
     fn degenerate_rays_are_refused_and_deep_stacks_spill() {
-        assert!(BoxRay::new(&Ray::new(Vec3A::ZERO, Vec3A::ZERO, 0.0)).is_none());
-        assert!(BoxRay::new(&Ray::new(Vec3A::ZERO, Vec3A::new(f32::NAN, 1.0, 0.0), 0.0)).is_none());
-        assert!(BoxRay::new(&Ray::new(Vec3A::splat(f32::INFINITY), Vec3A::X, 0.0)).is_none());
+        assert!(BoxRay::new(Vec3A::ZERO, Vec3A::ZERO).is_none());
+        assert!(BoxRay::new(Vec3A::ZERO, Vec3A::new(f32::NAN, 1.0, 0.0)).is_none());
+        assert!(BoxRay::new(Vec3A::splat(f32::INFINITY), Vec3A::X).is_none());
         let mut s = Stack::new();
         for i in 0..200u32 {
             s.push((i, i as f32));

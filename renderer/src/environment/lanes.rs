@@ -17,7 +17,7 @@
 //! degenerate ones included.
 
 use super::{Environment, PI, wrap_column};
-use crate::accel::packet::{LANES, Lane, dot, lane_mask};
+use crate::accel::lanes::{LANES, Lane, dot, lane_mask};
 use crate::math;
 
 /// A vector per lane.

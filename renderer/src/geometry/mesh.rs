@@ -180,7 +180,7 @@ impl TriangleMesh {
 
     /// Whether any triangle is hit with `ray.t_min < t < ray.t_max` (stops at the first).
     pub fn occluded(&self, ray: &Ray) -> bool {
-        let Some(boxes) = BoxRay::new(ray) else {
+        let Some(boxes) = BoxRay::new(ray.origin, ray.dir) else {
             return false;
         };
         let mut tris = LazyTriangleRay::new(ray);
@@ -195,7 +195,7 @@ impl TriangleMesh {
 
     /// The closest hit's parameter and triangle, without normals.
     pub fn closest(&self, ray: &Ray) -> Option<ShapeHit> {
-        let boxes = BoxRay::new(ray)?;
+        let boxes = BoxRay::new(ray.origin, ray.dir)?;
         let mut tris = LazyTriangleRay::new(ray);
         let t_min = ray.t_min;
         let mut found = None;

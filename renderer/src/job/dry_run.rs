@@ -2,7 +2,7 @@
 //! calibration render of each scene, without rendering it.
 
 use super::Job;
-use super::runner::Plan;
+use super::plan::Plan;
 use super::shard::{self, Shard, Unit};
 use super::source::FrameSource;
 use crate::film::RenderedFrame;

@@ -4,7 +4,7 @@
 
 use super::Job;
 use super::frame_record::{self as record, FrameRecord};
-use super::runner::{Plan, need_exr, stimulus_dir};
+use super::plan::{Plan, need_exr, stimulus_dir};
 use super::source::FrameSetup;
 use crate::film::RenderedFrame;
 use crate::frame_io::{exr as linear_frame, names};

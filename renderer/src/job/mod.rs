@@ -12,6 +12,7 @@ pub mod finalize;
 pub mod frame_record;
 pub mod line_format;
 pub mod lock;
+pub mod plan;
 pub mod runner;
 pub mod scene_source;
 pub mod shard;

@@ -7,15 +7,16 @@
 //! Resume is per frame: a frame counts as done when its record exists and the files it names
 //! have the recorded sizes; everything else is rendered again. Every file is written to a
 //! temporary name and renamed, so an interrupted run leaves whole files or none.
-//! Finishing a job (late measurements, content checks, the manifest) is [`super::finalize`];
+//! What to render is the job's [`super::plan`]. Finishing a job (late measurements, content
+//! checks, the manifest) is [`super::finalize`];
 //! counting and estimating without rendering is [`super::dry_run`].
 
-use super::expand::StimulusSpec;
+use super::Job;
 use super::finalize::{finalize_job, measure};
 use super::frame_record::{self as record, FrameRecord};
-use super::shard::{self, Shard, Unit};
-use super::source::{FrameSetup, FrameSource};
-use super::{Job, expand};
+use super::plan::{Plan, need_exr, stimulus_dir};
+use super::shard::{self, Shard};
+use super::source::FrameSource;
 use crate::assets::AssetRecord;
 use crate::film::RenderedFrame;
 use crate::frame_io::{exr as linear_frame, names, png::png_bytes};
@@ -99,70 +100,6 @@ struct StimulusStamp {
     assets: Vec<AssetRecord>,
 }
 
-/// The job, expanded and sized.
-pub(crate) struct Plan {
-    pub specs: Vec<StimulusSpec>,
-    /// Per stimulus: its scene's setup (with the job's overrides applied by the source).
-    pub setups: Vec<FrameSetup>,
-    pub units: Vec<Unit>,
-    /// Per stimulus: some stimulus is measured against it (its frames keep EXR copies and are
-    /// rendered first within a shard).
-    pub serves_as_reference: Vec<bool>,
-}
-
-impl Plan {
-    pub fn new(job: &Job, sources: &[Box<dyn FrameSource>]) -> Result<Self> {
-        if sources.len() != job.scenes.len() {
-            bail!(
-                "{} scenes but {} frame sources",
-                job.scenes.len(),
-                sources.len()
-            );
-        }
-        let specs = expand(job);
-        let setups: Vec<FrameSetup> = specs
-            .iter()
-            .map(|s| sources[s.scene_index].setup())
-            .collect();
-        let serves_as_reference: Vec<bool> = specs
-            .iter()
-            .map(|s| s.reference || specs.iter().any(|o| o.reference_id.as_ref() == Some(&s.id)))
-            .collect();
-        let sizes: Vec<(u32, u64, bool)> = specs
-            .iter()
-            .zip(&setups)
-            .zip(&serves_as_reference)
-            .map(|((s, u), &r)| {
-                let per_frame = u.width as u64 * u.height as u64 * s.sampling.spp as u64;
-                (u.frames, per_frame, r)
-            })
-            .collect();
-        let units = shard::units(&sizes, job.frames_per_unit);
-        Ok(Self {
-            specs,
-            setups,
-            units,
-            serves_as_reference,
-        })
-    }
-
-    /// The stimulus that stimulus `i` is measured against, unless it has none to be measured
-    /// against (an independent reference, or its own reference).
-    pub(super) fn reference_of(&self, i: usize) -> Option<usize> {
-        let spec = &self.specs[i];
-        if spec.own_reference() {
-            return None;
-        }
-        let id = spec.reference_id.as_ref()?;
-        self.specs.iter().position(|s| &s.id == id)
-    }
-
-    /// Whether stimulus `i`'s frames get an error against a reference.
-    pub(super) fn measured(&self, i: usize) -> bool {
-        self.reference_of(i).is_some()
-    }
-}
-
 /// Render (this shard of) a job whose scenes are given as frame sources, one per
 /// `job.scenes` entry, then finalize if every frame exists (per `opts.finalize`); `progress`
 /// counts the samples of the frames left to render and names the frame under way.
@@ -222,16 +159,6 @@ pub fn run_with_sources(
         super::lock::remove_stale_temporaries(&job_dir);
     }
     Ok(report)
-}
-
-pub(super) fn stimulus_dir(job_dir: &Path, spec: &StimulusSpec) -> PathBuf {
-    job_dir.join(&spec.id)
-}
-
-/// Whether stimulus `s` keeps EXR frames: references (to measure others against) and, on
-/// request, every stimulus.
-pub(super) fn need_exr(job: &Job, plan: &Plan, s: usize) -> bool {
-    plan.serves_as_reference[s] || job.keep_exr()
 }
 
 /// Write or check every stimulus's stamp; refuse frames of a different job under the same name.

@@ -16,7 +16,7 @@
 //!
 //! [`CameraFrame::look_at`]: crate::camera::CameraFrame::look_at
 
-use crate::accel::packet::{LANES, Lane, dot};
+use crate::accel::lanes::{LANES, Lane, dot};
 use crate::camera::{Camera, Moving};
 
 /// A vector per lane.

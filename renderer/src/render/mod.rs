@@ -59,7 +59,7 @@ pub fn render_frame(
     render_frame_on(scene, sampling, seed, frame, progress, true)
 }
 
-/// [`render_frame`], tracing [`LANES`](crate::accel::packet::LANES) samples at once only if
+/// [`render_frame`], tracing [`LANES`](crate::accel::lanes::LANES) samples at once only if
 /// `packets` (camera rays in lanes; shaded in lanes where the world has a packet form,
 /// [`World::small`]); the scalar path gives the same bytes (the tests compare the two).
 pub(crate) fn render_frame_on(

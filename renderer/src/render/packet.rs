@@ -17,7 +17,8 @@
 use super::CameraRays;
 use super::frame_lanes::frames_at;
 use super::sample_lanes::{FilmLanes, ShiftedSamples};
-use crate::accel::packet::{LANES, Lane, RayPacket, SmallWorld, dot, lane_mask};
+use crate::accel::lanes::{LANES, Lane, RayPacket, dot, lane_mask};
+use crate::accel::packet::SmallWorld;
 use crate::sampling::{FrameSampler, PixelSampler};
 use crate::shading::Tracer;
 use glam::{Vec3, Vec3A};

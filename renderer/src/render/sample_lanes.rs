@@ -11,7 +11,7 @@
 //! lane by lane the scalar ones (tested in their modules), the time is `t0 + t (t1 - t0)` and
 //! the film point `(x + 1/2) + dx`, each in that order.
 
-use crate::accel::packet::{LANES, Lane};
+use crate::accel::lanes::{LANES, Lane};
 use crate::sampling::warp::SpatialWarp;
 use crate::sampling::{FrameSampler, PixelSampler, TimeFilter};
 

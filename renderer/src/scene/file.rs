@@ -8,6 +8,7 @@
 //! rather than an internally tagged enum, so that every parse error keeps its full field path
 //! (serde buffers tagged enums and loses it) and a misplaced field gets a precise message.
 
+use crate::environment::NegativeTexels;
 use crate::sampling::SamplingConfig;
 use serde::{Deserialize, Serialize};
 
@@ -291,33 +292,4 @@ pub struct EnvironmentDesc {
     /// [`crate::environment::MAX_NEGATIVE_SHARE`] of the map's energy, refuse the map above.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub negatives: Option<NegativeTexels>,
-}
-
-/// How a scene asks negative environment-map texels to be treated.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum NegativeTexels {
-    /// Set them to 0 whatever energy they carry (the map gains that energy).
-    Clamp,
-    /// Refuse a map with any negative texel.
-    Refuse,
-}
-
-impl NegativeTexels {
-    pub const NAMES: [&'static str; 2] = ["clamp", "refuse"];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Clamp => "clamp",
-            Self::Refuse => "refuse",
-        }
-    }
-
-    pub fn from_name(s: &str) -> Option<Self> {
-        match s {
-            "clamp" => Some(Self::Clamp),
-            "refuse" => Some(Self::Refuse),
-            _ => None,
-        }
-    }
 }

@@ -16,7 +16,7 @@
 
 use super::packet::{V3, lanes, set};
 use super::{Surface, Tracer, bounce};
-use crate::accel::packet::{LANES, Lane, RayPacket};
+use crate::accel::lanes::{LANES, Lane, RayPacket};
 use crate::geometry::Ray;
 use glam::{Vec3, Vec3A};
 

@@ -23,9 +23,8 @@
 
 use super::{Surface, Tracer, bounce, phong};
 use crate::accel::SurfaceHit;
-use crate::accel::packet::{
-    Centres, LANES, Lane, Nearest, RayPacket, SmallWorld, dot, lane_mask, point_at,
-};
+use crate::accel::lanes::{LANES, Lane, RayPacket, dot, lane_mask, point_at};
+use crate::accel::packet::{Centres, Nearest, SmallWorld};
 use crate::light::Light;
 use crate::material::Material;
 use glam::{Vec3, Vec3A};
@@ -56,7 +55,7 @@ impl<'a> Tracer<'a> {
         live: u32,
         depth: u32,
     ) -> V3 {
-        let simple = SmallWorld::simple_packet(self.world, ray, live);
+        let simple = SmallWorld::simple_packet(self.world.shutter(), ray, live);
         let nearest = small.nearest(ray, simple, centres);
         // A tie between instances is the scalar path's to break.
         let packet = simple & !nearest.tie.to_bitmask();
@@ -198,7 +197,7 @@ impl<'a> Tracer<'a> {
     /// [`World::occluded`](crate::accel::World::occluded) for the lanes of `live`: the lanes
     /// blocked.
     fn blocked(&self, small: &SmallWorld, centres: &Centres, shadow: &RayPacket, live: u32) -> u32 {
-        let simple = SmallWorld::simple_packet(self.world, shadow, live);
+        let simple = SmallWorld::simple_packet(self.world.shutter(), shadow, live);
         let mut blocked = match simple {
             0 => 0,
             _ => small.blocked(shadow, simple, centres),

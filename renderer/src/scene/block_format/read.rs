@@ -2,12 +2,13 @@
 //! checks name lines and keys.
 
 use super::BLOCKS;
+use crate::environment::NegativeTexels;
 use crate::sampling::SamplingConfig;
 use crate::scene::SCENE_FORMAT;
 use crate::scene::file::{
     CameraDesc, DEFAULT_FPS, DEFAULT_MAX_DEPTH, DEFAULT_PHONG_EXPONENT, DEFAULT_UP,
     EnvironmentDesc, FresnelDesc, GroupDesc, InstanceDesc, LightDesc, LightKind, MaterialDesc,
-    NegativeTexels, ObjectDesc, ObjectKind, Scale, SceneFile, SettingsDesc,
+    ObjectDesc, ObjectKind, Scale, SceneFile, SettingsDesc,
 };
 use crate::text::sampling::{self as options, Host};
 use crate::text::{self, Entries, Entry, SourceMap, at_line, names};
