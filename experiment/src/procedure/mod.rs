@@ -18,7 +18,7 @@ pub mod seam;
 pub mod staircase;
 pub mod start;
 
-pub use replay::{Mismatch, replay};
+pub use replay::{Replay, replay};
 pub use seam::{Procedure, TrackEstimate};
 pub use start::{check, start};
 

@@ -5,31 +5,51 @@ use super::seam::Procedure;
 use crate::log::TrialRecord;
 use crate::trials::Trial;
 
-/// A logged main trial that is not the one the procedure put there.
+/// What the procedure presented where each logged main trial stands.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Mismatch {
-    /// Position among the main records given to [`replay`].
-    pub at: usize,
-    /// What the procedure would have presented there (`None`: it had finished).
-    pub expected: Option<Trial>,
+pub struct Replay {
+    /// The procedure's trial at each record, in order, up to and including the first record
+    /// that is not it (none there when the procedure had finished).
+    pub expected: Vec<Trial>,
+    /// Position (among the records given) of the first record that is not the procedure's
+    /// trial; the procedure has taken the answers before it.
+    pub mismatch: Option<usize>,
+}
+
+impl Replay {
+    /// The records answered into the procedure.
+    pub fn answered(&self) -> usize {
+        self.mismatch.unwrap_or(self.expected.len())
+    }
 }
 
 /// Feed `records` (main trials, in log order) to `procedure`, each checked against the trial
-/// it would present; stops at the first that differs.
+/// it would present; stops at the first that differs. The one replay of a log: the session
+/// resuming it, `analyze`'s validation and its adaptive estimates.
 pub fn replay<'a>(
     procedure: &mut dyn Procedure,
     records: impl IntoIterator<Item = &'a TrialRecord>,
-) -> Result<(), Mismatch> {
+) -> Replay {
+    let mut expected = Vec::new();
     for (at, r) in records.into_iter().enumerate() {
-        match procedure.current() {
-            Some(t) if t.matches(r) => procedure.answer(r.correct),
-            other => {
-                return Err(Mismatch {
-                    at,
-                    expected: other.cloned(),
-                });
-            }
+        let Some(t) = procedure.current().cloned() else {
+            return Replay {
+                expected,
+                mismatch: Some(at),
+            };
+        };
+        let same = t.matches(r);
+        expected.push(t);
+        if !same {
+            return Replay {
+                expected,
+                mismatch: Some(at),
+            };
         }
+        procedure.answer(r.correct);
     }
-    Ok(())
+    Replay {
+        expected,
+        mismatch: None,
+    }
 }

@@ -13,7 +13,7 @@ pub fn start(design: &Design, subject: &str) -> Box<dyn Procedure> {
     let seed = design.subject_seed(subject);
     match &design.file.procedure {
         ProcedureSpec::ConstantStimuli => Box::new(constant::ConstantStimuli::new(
-            trials::plan(design, subject).main,
+            trials::main_trials(design, seed),
         )),
         ProcedureSpec::QuestPlus(q) => Box::new(quest_plus::procedure(design, seed, q)),
         ProcedureSpec::Staircase(s) => Box::new(staircase::procedure(design, seed, s)),
