@@ -95,7 +95,8 @@ impl Sigmoid {
     }
 }
 
-/// Standard normal CDF, with full relative accuracy in both tails.
+/// Standard normal CDF, with full relative accuracy in both tails (the fits'; the decision
+/// rule keeps statrs' `experiment::predicted::phi`, justified there).
 pub fn phi(z: f64) -> f64 {
     0.5 * erfc(-z / std::f64::consts::SQRT_2)
 }
