@@ -5,7 +5,6 @@
 //! agree).
 
 use crate::comparisons::Unit;
-use crate::named::Named;
 use crate::options::{AnalyzeOptions, ModelKind, run_report};
 use crate::psychometric::LapseMode;
 use crate::report::Preset;
@@ -14,6 +13,7 @@ use crate::ttest::TestKind;
 use anyhow::Result;
 use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
+use renderer::named::Named;
 use std::path::PathBuf;
 
 /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
