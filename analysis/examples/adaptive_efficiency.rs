@@ -10,7 +10,7 @@
 //! the coverage of the true JND, and the bias of the fitted JND (median and mean of
 //! JND / true - 1 over the fits with a value). Beside it, for every procedure alike, the
 //! QUEST+ model's posterior from the same trials (the default prior of
-//! `experiment::procedure::QuestPlusSpec`; for a QUEST+ session exactly its own estimate): the
+//! `experiment::design::procedure::QuestPlusSpec`; for a QUEST+ session exactly its own estimate): the
 //! median ratio of its 95% interval, its coverage and the median bias of its posterior mean.
 //!
 //! ```text
@@ -32,13 +32,13 @@ use analysis::plan::replicate::seeded;
 use analysis::psychometric::fit;
 use analysis::report::Settings;
 use anyhow::{Context, Result};
+use experiment::design::procedure::{
+    ProcedureSpec, QuestGoal, QuestPlusSpec, SlopePrior, StairRule, StaircaseSpec, ThresholdRange,
+};
 use experiment::log::SessionLog;
+use experiment::procedure;
 use experiment::procedure::interleave::Track;
 use experiment::procedure::quest_plus::QuestPlus;
-use experiment::procedure::spec::QuestGoal;
-use experiment::procedure::{
-    self, ProcedureSpec, QuestPlusSpec, SlopePrior, StairRule, StaircaseSpec, ThresholdRange,
-};
 use experiment::simulate::simulate_subject_in_memory;
 use experiment::{Design, Observer};
 use rayon::prelude::*;

@@ -24,21 +24,7 @@ pub enum Unit {
     Cell,
 }
 
-impl crate::named::Named for Unit {
-    const ALL: &'static [Self] = &[Unit::Subject, Unit::Cell];
-    fn name(self) -> &'static str {
-        Unit::name(self)
-    }
-}
-
-impl Unit {
-    pub fn name(self) -> &'static str {
-        match self {
-            Unit::Subject => "subject",
-            Unit::Cell => "cell",
-        }
-    }
-}
+renderer::named!(Unit, "unit", [Subject => "subject", Cell => "cell"]);
 
 /// The order of each family's groups: pairs are (earlier, later) and t > 0 when the earlier
 /// has the higher proportion correct. Labels not listed follow, alphabetically.

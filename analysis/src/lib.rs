@@ -9,7 +9,6 @@ pub mod data;
 pub mod figures;
 pub mod jnd;
 pub mod multilevel;
-pub mod named;
 pub mod optimizer;
 pub mod options;
 pub mod output;

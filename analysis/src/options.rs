@@ -78,15 +78,7 @@ pub enum ModelKind {
     Multilevel,
 }
 
-impl crate::named::Named for ModelKind {
-    const ALL: &'static [Self] = &[ModelKind::Pooled, ModelKind::Multilevel];
-    fn name(self) -> &'static str {
-        match self {
-            ModelKind::Pooled => "pooled",
-            ModelKind::Multilevel => "multilevel",
-        }
-    }
-}
+renderer::named!(ModelKind, "model", [Pooled => "pooled", Multilevel => "multilevel"]);
 
 impl AnalyzeOptions {
     /// The defaults (those of `analyze <inputs> --out <out>`): target 0.75, logistic, lapse

@@ -36,15 +36,7 @@ pub enum LapseMode {
     Free,
 }
 
-impl crate::named::Named for LapseMode {
-    const ALL: &'static [Self] = &[LapseMode::Fixed, LapseMode::Free];
-    fn name(self) -> &'static str {
-        match self {
-            LapseMode::Fixed => "fixed",
-            LapseMode::Free => "free",
-        }
-    }
-}
+renderer::named!(LapseMode, "lapse mode", [Fixed => "fixed", Free => "free"]);
 
 /// What to fit.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -494,7 +486,6 @@ fn minimise(data: &Data, space: &Space, start: [f64; 3], step: f64) -> ([f64; 3]
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::named::Named;
     use crate::simulate::{THESIS_LEVELS as THESIS, expected_curve, thesis_plane_model};
 
     fn curve(levels: &[u32], correct: &[u32], n: u32) -> Curve {
@@ -518,7 +509,7 @@ mod tests {
     fn all_correct_is_a_step_above_the_range() {
         let c = curve(&THESIS, &[4; 8], 4);
         for lapse in [LapseMode::Fixed, LapseMode::Free] {
-            for &sigmoid in Sigmoid::ALL {
+            for sigmoid in Sigmoid::ALL {
                 let f = fit(
                     &c,
                     &FitSettings {
@@ -583,7 +574,7 @@ mod tests {
             (343, 26, 48),
             (512, 23, 48),
         ]);
-        for &sigmoid in Sigmoid::ALL {
+        for sigmoid in Sigmoid::ALL {
             let f = fit(
                 &c,
                 &FitSettings {

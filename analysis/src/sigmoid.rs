@@ -33,22 +33,13 @@ pub struct SigmoidValue {
 /// keeps exp(z) in the Gumbel form finite.
 const Z_LIMIT: f64 = 300.0;
 
-impl crate::named::Named for Sigmoid {
-    const ALL: &'static [Self] = &[Sigmoid::Logistic, Sigmoid::Weibull, Sigmoid::Normal];
-    fn name(self) -> &'static str {
-        Sigmoid::name(self)
-    }
-}
+renderer::named!(Sigmoid, "sigmoid", [
+    Logistic => "logistic",
+    Weibull => "weibull",
+    Normal => "normal",
+]);
 
 impl Sigmoid {
-    pub fn name(self) -> &'static str {
-        match self {
-            Sigmoid::Logistic => "logistic",
-            Sigmoid::Weibull => "weibull",
-            Sigmoid::Normal => "normal",
-        }
-    }
-
     /// Evaluate S, 1 - S and ln(1 - S).
     pub fn eval(self, z: f64) -> SigmoidValue {
         let z = z.clamp(-Z_LIMIT, Z_LIMIT);
@@ -95,7 +86,8 @@ impl Sigmoid {
     }
 }
 
-/// Standard normal CDF, with full relative accuracy in both tails.
+/// Standard normal CDF, with full relative accuracy in both tails (the fits'; the decision
+/// rule keeps statrs' `experiment::predicted::phi`, justified there).
 pub fn phi(z: f64) -> f64 {
     0.5 * erfc(-z / std::f64::consts::SQRT_2)
 }

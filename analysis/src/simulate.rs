@@ -2,7 +2,7 @@
 //! session-log files, so the analysis can be checked against a known truth. (The experiment
 //! crate's simulated observers drive the real trial logger; this is a small generator that
 //! writes the log format directly. Its subjects answer with the experiment's observer function,
-//! `experiment::observer::p_correct`, with lapse 0.)
+//! `experiment::psychometric::p_correct`, with lapse 0.)
 //!
 //! Every response is a pure function of (seed, subject, scene, point set, level, repeat) through
 //! the counter-based hash.
@@ -12,7 +12,7 @@ use crate::psychometric::{GUESS, Model};
 use crate::sigmoid::Sigmoid;
 use anyhow::Result;
 use experiment::log::LOG_FORMAT;
-use experiment::observer::p_correct;
+use experiment::psychometric::p_correct;
 use renderer::condition::{PointSetKind, TimeFilter};
 use renderer::hash::{hash, name_id, unit_f64};
 use serde_json::{Value, json};
@@ -116,7 +116,7 @@ impl StudySpec {
     }
 
     /// The true model of one subject in one condition (the fits' truth; the responses come
-    /// from the same logistic through `experiment::observer::p_correct`).
+    /// from the same logistic through `experiment::psychometric::p_correct`).
     pub fn model(&self, subject: usize, scene: usize, point_set: usize) -> Model {
         let offset = self.spread * (unit_f64(hash(self.seed, &[0x5b, subject as u64])) - 0.5);
         Model {

@@ -18,22 +18,13 @@ pub enum TestKind {
     Welch,
 }
 
-impl crate::named::Named for TestKind {
-    const ALL: &'static [Self] = &[TestKind::Paired, TestKind::Student, TestKind::Welch];
-    fn name(self) -> &'static str {
-        TestKind::name(self)
-    }
-}
+renderer::named!(TestKind, "t-test", [
+    Paired => "paired",
+    Student => "student",
+    Welch => "welch",
+]);
 
 impl TestKind {
-    pub fn name(self) -> &'static str {
-        match self {
-            TestKind::Paired => "paired",
-            TestKind::Student => "student",
-            TestKind::Welch => "welch",
-        }
-    }
-
     /// Which Cohen's d the test reports.
     pub fn effect_size_name(self) -> &'static str {
         match self {

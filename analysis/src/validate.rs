@@ -125,22 +125,17 @@ fn expected_main(d: &Design, log: &SessionLog) -> Vec<Trial> {
         return plan(d, &log.header.subject).main;
     }
     let mut p = procedure::start(d, &log.header.subject);
-    let mut out = Vec::new();
-    for r in log.main_trials() {
-        let Some(t) = p.current().cloned() else {
-            break;
-        };
-        if r.index as usize != out.len() {
-            break; // a missing trial: `check` names it
-        }
-        let same = t.matches(r);
-        out.push(t);
-        if !same {
-            break;
-        }
-        p.answer(r.correct);
+    let replay = procedure::replay(p.as_mut(), log.main_trials());
+    let mut expected = replay.expected;
+    // A record at another index than the procedure's trial there is a missing (or repeated)
+    // trial, which `check` names: that place gets no expected trial.
+    if let Some(at) = replay.mismatch
+        && let (Some(t), Some(r)) = (expected.get(at), log.main_trials().nth(at))
+        && t.index != r.index
+    {
+        expected.truncate(at);
     }
-    out
+    expected
 }
 
 /// How a trial's stimuli disagree with the manifest they were rendered into.

@@ -6,7 +6,6 @@
 use analysis::bootstrap::{BootstrapSettings, Bound, bootstrap};
 use analysis::data::{Curve, Dataset};
 use analysis::jnd::{Threshold, empirical_threshold, model_threshold};
-use analysis::named::Named;
 use analysis::options::AnalyzeOptions;
 use analysis::psychometric::{FitSettings, Model, fit};
 use analysis::report::analyze;
@@ -82,7 +81,7 @@ fn expected_counts_recover_the_parameters_only_with_the_right_guess_rate() {
     // Counts exactly n p(x) (n = 1e8): the MLE is the truth up to the count rounding.
     let n = 100_000_000u32;
     for m in [3, 4] {
-        for &sigmoid in Sigmoid::ALL {
+        for sigmoid in Sigmoid::ALL {
             let t = Model {
                 sigmoid,
                 ..truth(m)

@@ -25,6 +25,7 @@ pub mod predicted;
 pub mod preflight;
 pub mod presentation;
 pub mod procedure;
+pub mod psychometric;
 pub mod refresh;
 pub mod session;
 pub mod simulate;

@@ -1,11 +1,7 @@
 //! Simulated observers (`scenes/observers/<name>.json`, format `blurlab-observer/1`): a known
-//! two-alternative psychometric function per condition, for piloting a design and for testing
-//! the analysis against a known truth.
+//! two-alternative psychometric function per condition ([`crate::psychometric::p_correct`]),
+//! for piloting a design and for testing the analysis against a known truth.
 //!
-//! p(spp) = 0.5 + (0.5 - lapse) S(slope (ln T - ln spp) + c),   S(z) = 1 / (1 + e^-z),
-//!
-//! with c = logit(0.25 / (0.5 - lapse)) so that p(T) = 0.75 exactly: T *is* the JND the analysis
-//! should recover (with lapse = 0, c = 0 and this is the plain logistic of the analysis crate).
 //! Each subject's T is the condition's threshold times exp(spread (u - 1/2)), u uniform from
 //! the subject's name: subjects differ in sensitivity, not in which condition is harder.
 //!
@@ -17,6 +13,7 @@
 
 use crate::design::Design;
 use crate::predicted::PredictedTable;
+use crate::psychometric::{TARGET, p_correct};
 use crate::trials::{Condition, Trial, conditions};
 use anyhow::{Context, Result, bail};
 use renderer::condition::{PointSetKind, TimeFilter};
@@ -34,9 +31,6 @@ pub const OBSERVER_FORMAT: &str = "blurlab-observer/1";
 pub const MAX_SLOPE: f64 = 100.0;
 pub const MAX_SUBJECT_SPREAD: f64 = 10.0;
 pub const MAX_THRESHOLD_SPP: f64 = 1e9;
-
-/// Proportion correct at the threshold.
-pub const TARGET: f64 = 0.75;
 
 /// The observer file as written on disk.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -277,26 +271,6 @@ impl Observer {
         } else {
             3 - trial.diff_pair
         })
-    }
-}
-
-/// The observer's psychometric function in ln spp: the probability of a correct two-pair
-/// answer at `ln_spp` for a threshold `ln_threshold` (where p = [`TARGET`]), a `slope` per ln
-/// spp and a `lapse` rate (the formula at the top of this module). With lapse 0 this is the
-/// plain logistic 1/2 + 1/2 S(slope (ln T - ln spp)).
-pub fn p_correct(slope: f64, lapse: f64, ln_threshold: f64, ln_spp: f64) -> f64 {
-    let q = (TARGET - 0.5) / (0.5 - lapse);
-    let c = (q / (1.0 - q)).ln();
-    let z = slope * (ln_threshold - ln_spp) + c;
-    0.5 + (0.5 - lapse) * logistic(z)
-}
-
-fn logistic(z: f64) -> f64 {
-    if z >= 0.0 {
-        1.0 / (1.0 + (-z).exp())
-    } else {
-        let e = z.exp();
-        e / (1.0 + e)
     }
 }
 

@@ -75,7 +75,17 @@ pub fn two_pair_p_correct(d_prime: f64) -> f64 {
     a * a + b * b
 }
 
-/// Standard normal CDF.
+/// Standard normal CDF of the decision rule (statrs' erfc).
+///
+/// The workspace has two normal CDFs, on purpose; this is where that is justified. The
+/// analysis's `sigmoid::phi` (its own erfc, a few ulps relative in both tails) serves the
+/// likelihood of a cumulative-normal fit, where a step-like fit evaluates Phi far in its tails
+/// and statrs' erfc (1e-10 relative off near x = 0.5) would bias the optimum. This one serves
+/// the two-pair decision rule and its inverses (`analysis::predict::decision`), where d' is
+/// known to a few percent: statrs is accurate enough, and it fixes the bytes of every
+/// `predicted.csv` written and of every predicted observer's answers, which the accurate erfc
+/// would change in the last digits. The experiment crate sits below the analysis and does not
+/// carry its special functions.
 pub fn phi(z: f64) -> f64 {
     0.5 * statrs::function::erf::erfc(-z / std::f64::consts::SQRT_2)
 }

@@ -20,7 +20,7 @@ use crate::log::{Display, Header, LOG_FORMAT, LogLine, Resume, SessionLog, Trial
 use crate::log_sink::{FileLog, LogSink};
 use crate::log_writer::{Durability, whole_lines_len};
 use crate::procedure::{self, Procedure, TrackEstimate};
-use crate::trials::{self, Trial, TrialPlan};
+use crate::trials::{self, Trial};
 use anyhow::{Result, bail};
 use std::path::Path;
 
@@ -28,7 +28,7 @@ use std::path::Path;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
     Instructions,
-    /// Presenting practice trial `i` (index into [`TrialPlan::practice`]).
+    /// Presenting practice trial `i` (index into [`Session::practice`]).
     Practice(usize),
     /// Practice is over; the main trials come next.
     PracticeDone,
@@ -76,7 +76,10 @@ pub struct Answered {
 pub struct Session {
     design: Design,
     subject: String,
-    plan: TrialPlan,
+    /// The subject's seed (see [`Design::subject_seed`]).
+    seed: u64,
+    /// The practice trials (the main ones come from the procedure).
+    practice: Vec<Trial>,
     /// Gives the main trials, one at a time, from the answers so far.
     procedure: Box<dyn Procedure>,
     log: Box<dyn LogSink>,
@@ -134,11 +137,12 @@ impl Session {
                 design.file.task
             );
         }
-        let plan = trials::plan(design, subject);
+        let seed = design.subject_seed(subject);
         let mut s = Session {
             design: design.clone(),
             subject: subject.to_string(),
-            plan,
+            seed,
+            practice: trials::practice_trials(design, seed),
             procedure: procedure::start(design, subject),
             log,
             existing: None,
@@ -198,34 +202,32 @@ impl Session {
     /// the main trials, which are replayed into the procedure (an adaptive one is then in the
     /// state an uninterrupted session would have).
     fn check_trials(&mut self, log: &SessionLog) -> Result<()> {
-        for r in &log.trials {
-            let expected = if r.practice {
-                (self.main_done == 0)
-                    .then(|| self.plan.practice.get(self.practice_done))
-                    .flatten()
-            } else {
-                self.procedure.current()
-            };
-            match expected {
-                Some(t) if t.matches(r) => {
-                    if r.practice {
-                        self.practice_done += 1
-                    } else {
-                        self.procedure.answer(r.correct);
-                        self.main_done += 1
-                    }
-                }
-                _ => bail!(
-                    "{}: logged {} trial {} ({}) is not the trial this design and seed put there; \
-                     the log does not belong to this trial list",
-                    log.path.display(),
-                    if r.practice { "practice" } else { "main" },
-                    r.index,
-                    r.test_stimulus
-                ),
+        let practice = log.trials.iter().take_while(|r| r.practice).count();
+        let (practice, main) = log.trials.split_at(practice);
+        let wrong = |r: &TrialRecord| {
+            anyhow::anyhow!(
+                "{}: logged {} trial {} ({}) is not the trial this design and seed put there; \
+                 the log does not belong to this trial list",
+                log.path.display(),
+                if r.practice { "practice" } else { "main" },
+                r.index,
+                r.test_stimulus
+            )
+        };
+        for (i, r) in practice.iter().enumerate() {
+            if !self.practice.get(i).is_some_and(|t| t.matches(r)) {
+                return Err(wrong(r));
             }
         }
-        Ok(())
+        self.practice_done = practice.len();
+        // The main trials up to a practice trial among them, which comes too late.
+        let until_practice = main.iter().take_while(|r| !r.practice);
+        let replayed = procedure::replay(self.procedure.as_mut(), until_practice);
+        self.main_done = replayed.answered();
+        match main.get(self.main_done) {
+            Some(r) => Err(wrong(r)),
+            None => Ok(()),
+        }
     }
 
     /// Write the header (new log) or a resume line (continued log); the session is then at
@@ -266,7 +268,7 @@ impl Session {
                 session: 1,
                 design: self.design.name().to_string(),
                 design_hash: self.design.hash.clone(),
-                seed: self.plan.seed,
+                seed: self.seed,
                 app_version: app_version(),
                 mode: info.mode,
                 started_unix: info.started_unix,
@@ -288,7 +290,7 @@ impl Session {
     /// The trial being presented, if the stage is a trial.
     pub fn trial(&self) -> Option<&Trial> {
         match self.stage {
-            Stage::Practice(i) => self.plan.practice.get(i),
+            Stage::Practice(i) => self.practice.get(i),
             Stage::Trial(_) => self.procedure.current(),
             _ => None,
         }
@@ -299,7 +301,6 @@ impl Session {
     pub fn next_trial(&self) -> Option<Trial> {
         match self.stage {
             Stage::Practice(i) => self
-                .plan
                 .practice
                 .get(i + 1)
                 .or_else(|| self.procedure.current())
@@ -320,7 +321,7 @@ impl Session {
     }
 
     fn next_trial_stage(&self) -> Stage {
-        if self.main_done == 0 && self.practice_done < self.plan.practice.len() {
+        if self.main_done == 0 && self.practice_done < self.practice.len() {
             Stage::Practice(self.practice_done)
         } else if self.procedure.current().is_some() {
             Stage::Trial(self.main_done)
@@ -349,7 +350,7 @@ impl Session {
         self.log.append(&LogLine::Trial(record))?;
         self.stage = if answered.practice {
             self.practice_done += 1;
-            if self.practice_done < self.plan.practice.len() {
+            if self.practice_done < self.practice.len() {
                 Stage::Practice(self.practice_done)
             } else if self.procedure.current().is_none() {
                 Stage::Finished
@@ -377,7 +378,7 @@ impl Session {
     }
 
     pub fn practice_progress(&self) -> (usize, usize) {
-        (self.practice_done, self.plan.practice.len())
+        (self.practice_done, self.practice.len())
     }
 
     /// Every main trial is answered (the procedure has no more).
@@ -400,10 +401,9 @@ impl Session {
         &self.warnings
     }
 
-    /// The practice trials and the constant-stimuli list (an adaptive procedure's main trials
-    /// are not planned: see [`Session::trial`]).
-    pub fn plan(&self) -> &TrialPlan {
-        &self.plan
+    /// The practice trials (the main ones come from the procedure: see [`Session::trial`]).
+    pub fn practice(&self) -> &[Trial] {
+        &self.practice
     }
 
     pub fn design(&self) -> &Design {

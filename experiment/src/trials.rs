@@ -150,7 +150,10 @@ fn cell_combos(repeats: u32, k: usize) -> Vec<(u8, Side)> {
     out
 }
 
-fn main_trials(design: &Design, seed: u64) -> Vec<Trial> {
+/// The constant-stimuli list of main trials (every condition x level `repeats` times, shuffled
+/// and numbered) for a subject's seed: built here only, for the procedure that presents it
+/// (`procedure::constant`) and the plan (`plan`).
+pub fn main_trials(design: &Design, seed: u64) -> Vec<Trial> {
     let mut cells: Vec<(Condition, u32)> = Vec::new();
     for c in conditions(design) {
         for &level in &design.file.levels {
@@ -173,7 +176,8 @@ fn main_trials(design: &Design, seed: u64) -> Vec<Trial> {
     trials
 }
 
-fn practice_trials(design: &Design, seed: u64) -> Vec<Trial> {
+/// The practice trials for a subject's seed.
+pub fn practice_trials(design: &Design, seed: u64) -> Vec<Trial> {
     let conds = conditions(design);
     let levels = design.practice_levels();
     let n = design.file.practice.trials as usize;

@@ -240,7 +240,8 @@ fn the_next_trial_loads_while_the_subject_answers() {
     step_until(&mut h, "the response screen", SessionApp::responding);
     // The first trial had to load before it could start; the next one loads now (uploads begin
     // on the repaint after the question appeared).
-    let plan = h.state().session().plan().clone();
+    let session = h.state().session();
+    let plan = experiment::trials::plan(session.design(), session.subject());
     if plan.practice[0].test_stimulus != plan.main[0].test_stimulus {
         assert!(h.state().prefetching());
     }

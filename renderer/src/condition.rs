@@ -9,39 +9,14 @@
 //! without the tracer. The thesis text formats' own spellings (`stratifiedmc`, `box` for the
 //! truncated box) live in `crate::text::names`.
 
-use anyhow::bail;
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
 use std::fmt;
-use std::str::FromStr;
 
-/// `ALL`, `name`, `by_name`, `Display`, `FromStr` and the order by name of a named enum.
-macro_rules! named {
-    ($ty:ident, $what:literal, [$($variant:ident => $name:literal),+ $(,)?]) => {
-        impl $ty {
-            /// Every variant, in the order help texts list them.
-            pub const ALL: [$ty; [$($name),+].len()] = [$($ty::$variant),+];
-
-            /// The name used in scene, job, manifest, design and log files.
-            pub fn name(self) -> &'static str {
-                match self {
-                    $($ty::$variant => $name),+
-                }
-            }
-
-            /// The variant called `name`; the error lists the known names.
-            pub fn by_name(name: &str) -> anyhow::Result<Self> {
-                match Self::ALL.into_iter().find(|v| v.name() == name) {
-                    Some(v) => Ok(v),
-                    None => bail!(
-                        concat!("unknown ", $what, " {:?}; expected one of {}"),
-                        name,
-                        Self::ALL.map(|v| v.name()).join(", ")
-                    ),
-                }
-            }
-        }
-
+/// The file vocabulary of a [`crate::named!`] enum: serde by name (an unknown name's error
+/// lists the known ones), `Debug` as the quoted name, and the order by name.
+macro_rules! by_name_in_files {
+    ($($ty:ident),+) => {$(
         impl Serialize for $ty {
             fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
                 s.serialize_str(self.name())
@@ -65,19 +40,6 @@ macro_rules! named {
             }
         }
 
-        impl fmt::Display for $ty {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str(self.name())
-            }
-        }
-
-        impl FromStr for $ty {
-            type Err = anyhow::Error;
-            fn from_str(s: &str) -> anyhow::Result<Self> {
-                Self::by_name(s)
-            }
-        }
-
         /// By name, as the strings these names replaced sorted.
         impl Ord for $ty {
             fn cmp(&self, other: &Self) -> Ordering {
@@ -90,7 +52,7 @@ macro_rules! named {
                 Some(self.cmp(other))
             }
         }
-    };
+    )+};
 }
 
 /// A point set (thesis Chapter II "Point Sets for Sampling"); the sets themselves are in
@@ -108,7 +70,7 @@ pub enum PointSetKind {
     Halton,
 }
 
-named!(PointSetKind, "point set", [
+crate::named!(PointSetKind, "point set", [
     Random => "random",
     Stratified => "stratified",
     Hammersley => "hammersley",
@@ -129,7 +91,7 @@ pub enum TimeFilter {
     Triangle,
 }
 
-named!(TimeFilter, "time filter", [
+crate::named!(TimeFilter, "time filter", [
     Box => "box",
     TruncatedBox => "truncated_box",
     Triangle => "triangle",
@@ -146,10 +108,12 @@ pub enum SpatialFilter {
     Box,
 }
 
-named!(SpatialFilter, "spatial filter", [
+crate::named!(SpatialFilter, "spatial filter", [
     Gaussian => "gaussian",
     Box => "box",
 ]);
+
+by_name_in_files!(PointSetKind, TimeFilter, SpatialFilter);
 
 /// One condition of a study: a scene rendered with a point set and a time filter (the cell of
 /// a design without the level). Manifest entries, trials, log records, predictions and the
@@ -182,6 +146,7 @@ impl fmt::Display for Condition {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::str::FromStr;
 
     fn round_trips<T>(all: &[T])
     where

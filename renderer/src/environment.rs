@@ -49,24 +49,7 @@ pub enum NegativeTexels {
     Refuse,
 }
 
-impl NegativeTexels {
-    pub const NAMES: [&'static str; 2] = ["clamp", "refuse"];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Clamp => "clamp",
-            Self::Refuse => "refuse",
-        }
-    }
-
-    pub fn from_name(s: &str) -> Option<Self> {
-        match s {
-            "clamp" => Some(Self::Clamp),
-            "refuse" => Some(Self::Refuse),
-            _ => None,
-        }
-    }
-}
+crate::named!(NegativeTexels, "negative texel policy", [Clamp => "clamp", Refuse => "refuse"]);
 
 #[derive(Clone, Debug)]
 pub struct Environment {

@@ -19,6 +19,7 @@ pub mod ids;
 pub mod json;
 pub mod limits;
 pub mod manifest;
+pub mod named;
 pub mod paths;
 pub mod progress;
 pub mod quote;

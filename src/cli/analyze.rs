@@ -3,7 +3,6 @@
 //! that they agree).
 
 use analysis::comparisons::Unit;
-use analysis::named::Named;
 use analysis::options::{AnalyzeOptions, ModelKind, run_report};
 use analysis::psychometric::LapseMode;
 use analysis::report::Preset;
@@ -12,6 +11,7 @@ use analysis::ttest::TestKind;
 use anyhow::Result;
 use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
+use renderer::named::Named;
 use std::path::PathBuf;
 
 /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.

@@ -124,16 +124,12 @@ pub enum Grouping {
     TimeFilter,
 }
 
-impl Grouping {
-    pub fn name(self) -> &'static str {
-        match self {
-            Grouping::Condition => "condition",
-            Grouping::Scene => "scene",
-            Grouping::PointSet => "point_set",
-            Grouping::TimeFilter => "time_filter",
-        }
-    }
-}
+renderer::named!(Grouping, "grouping", [
+    Condition => "condition",
+    Scene => "scene",
+    PointSet => "point_set",
+    TimeFilter => "time_filter",
+]);
 
 /// A group's identity: its grouping and label (`scene/point_set/time_filter` for conditions).
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]

@@ -8,7 +8,7 @@ use crate::data::Grouping;
 use crate::jnd::Threshold;
 use crate::plan::cells_of;
 use crate::report::Report;
-use experiment::observer::TARGET;
+use experiment::psychometric::TARGET;
 use experiment::{Design, Observer};
 use std::fmt::Write as _;
 

@@ -47,14 +47,7 @@ pub enum Preset {
     Thesis,
 }
 
-impl crate::named::Named for Preset {
-    const ALL: &'static [Self] = &[Preset::Thesis];
-    fn name(self) -> &'static str {
-        match self {
-            Preset::Thesis => "thesis",
-        }
-    }
-}
+renderer::named!(Preset, "preset", [Thesis => "thesis"]);
 
 /// Mean and standard error over subjects at one level.
 #[derive(Clone, Debug, Serialize)]

@@ -1,7 +1,7 @@
 //! The method of constant stimuli: the subject's planned list (`trials::plan`) in order; the
 //! answers change nothing.
 
-use super::Procedure;
+use super::seam::Procedure;
 use crate::trials::Trial;
 
 #[derive(Debug)]

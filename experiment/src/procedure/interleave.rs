@@ -6,7 +6,7 @@
 //! combinations per track (balanced to within one, from a start drawn per track), so only the
 //! level depends on the answers.
 
-use super::{Procedure, TrackEstimate};
+use super::seam::{Procedure, TrackEstimate};
 use crate::design::Design;
 use crate::trials::{COMBOS, Condition, Trial, conditions, make_trial};
 use rand::seq::SliceRandom;
@@ -188,9 +188,9 @@ impl<T: Track> Procedure for Interleaved<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::design::procedure::QuestPlusSpec;
     use crate::log::Side;
     use crate::procedure::quest_plus;
-    use crate::procedure::spec::QuestPlusSpec;
     use crate::procedure::tests::adaptive;
     use std::collections::BTreeMap;
 

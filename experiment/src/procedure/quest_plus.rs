@@ -1,7 +1,7 @@
 //! QUEST+ (Watson 2017, JOV 17(3):10) over the rendered levels: a posterior over (ln threshold,
 //! slope) on a grid; each trial takes the level whose answer is expected to leave the least
 //! posterior entropy. The psychometric function is the two-pair task's
-//! ([`crate::observer::p_correct`]: guess rate 1/2, the design's fixed lapse rate, threshold at
+//! ([`crate::psychometric::p_correct`]: guess rate 1/2, the design's fixed lapse rate, threshold at
 //! p = 0.75), the function the simulated observers answer with and the analysis fits.
 //!
 //! Choices the paper leaves to the user (docs/experiment.md): the threshold grid spans ln spp
@@ -11,9 +11,10 @@
 //! values at the prior median x e^(sd z), z = -2 ... 2, weighted by the normal density of z.
 
 use super::interleave::{Interleaved, Track};
-use super::spec::{QuestGoal, QuestPlusSpec, ThresholdRange};
 use crate::design::Design;
-use crate::observer::{TARGET, p_correct};
+use crate::design::procedure::{QuestGoal, QuestPlusSpec, ThresholdRange, grid_range};
+use crate::psychometric::{TARGET, p_correct};
+use anyhow::{Result, bail};
 
 /// Grid step of ln threshold.
 const THETA_STEP: f64 = 0.05;
@@ -180,11 +181,36 @@ impl Track for QuestPlus {
     }
 }
 
-/// The threshold grid's ends (ln spp) for levels sorted ascending: a factor e beyond them.
-pub fn grid_range(levels: &[u32]) -> (f64, f64) {
-    let lowest = levels.iter().min().copied().unwrap_or(1);
-    let highest = levels.iter().max().copied().unwrap_or(1);
-    ((lowest as f64).ln() - 1.0, (highest as f64).ln() + 1.0)
+/// A stop rule met after the first trial whatever its answer stops every track there, while
+/// the design reads as `trials` per track (issue 42: `stop_width: 1e308` ran one trial a track
+/// and `simulate` announced 96): refused when the design is loaded.
+pub fn check_stop_width(spec: &QuestPlusSpec, levels: &[u32]) -> Result<()> {
+    let Some(w) = spec.stop_width else {
+        return Ok(());
+    };
+    let width = |q: &QuestPlus| {
+        let (_, lo, hi) = q.ln_threshold();
+        hi - lo
+    };
+    let prior = QuestPlus::new(levels, spec);
+    let first = prior.level();
+    let after = [true, false].map(|correct| {
+        let mut q = prior.clone();
+        q.update(first, correct);
+        width(&q)
+    });
+    let widest = after[0].max(after[1]);
+    if widest < w {
+        bail!(
+            "field `procedure.quest_plus.stop_width` is {}, but the 95% interval of ln \
+             threshold is at most {widest:.3} wide after the first trial (the prior's is \
+             {:.3}), so every track would stop after one trial; expected a width below \
+             {widest:.3} (0.5 is a factor 1.65 between the interval's ends)",
+            renderer::limits::shortest(w),
+            width(&prior)
+        );
+    }
+    Ok(())
 }
 
 /// A grid point inside a threshold range (half a grid step of tolerance, so an end given as a

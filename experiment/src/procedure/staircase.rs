@@ -9,8 +9,8 @@
 //! them when there are at most two; the presented level when there are none).
 
 use super::interleave::{Interleaved, Track};
-use super::spec::{StairRule, StaircaseSpec};
 use crate::design::Design;
+use crate::design::procedure::{StairRule, StaircaseSpec};
 
 /// One subject's staircases, `interleaved` per condition.
 pub fn procedure(design: &Design, seed: u64, spec: &StaircaseSpec) -> Interleaved<Staircase> {

@@ -82,15 +82,8 @@ pub enum Randomization {
     Scramble,
 }
 
-impl Randomization {
-    /// The name used in scene, job and text files.
-    pub fn name(self) -> &'static str {
-        match self {
-            Randomization::Shift => "shift",
-            Randomization::Scramble => "scramble",
-        }
-    }
-}
+// The names used in scene, job and text files.
+crate::named!(Randomization, "randomization", [Shift => "shift", Scramble => "scramble"]);
 
 /// How many distinct positions each axis gets.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq)]

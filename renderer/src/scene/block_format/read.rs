@@ -376,9 +376,9 @@ fn settings_block(e: &mut Entries) -> Result<Settings> {
                 .choice(
                     "envmapnegatives",
                     "settings.environment.negatives",
-                    &NegativeTexels::NAMES,
+                    &NegativeTexels::ALL.map(NegativeTexels::name),
                 )?
-                .and_then(|w| NegativeTexels::from_name(&w)),
+                .and_then(|w| NegativeTexels::by_name(&w).ok()),
         }),
         None => {
             for key in ["envmapintensity", "envmaprotation", "envmapnegatives"] {

@@ -2,6 +2,8 @@
 //! the thesis's method of constant stimuli (`levels` x `repeats`); the adaptive procedures pick
 //! each trial's level from the design's `levels` (the rendered ones) given the earlier answers.
 //! Defaults the thesis does not give are chosen here and written down in `docs/experiment.md`.
+//! These are the field's types and the checks of its own values; they name no implementation
+//! (`crate::procedure` reads them, and `crate::procedure::check` the checks that need one).
 
 use anyhow::{Result, bail};
 use serde::{Deserialize, Serialize};
@@ -73,7 +75,7 @@ impl ProcedureSpec {
 }
 
 /// QUEST+ over the rendered levels with the two-pair task's psychometric function (guess rate
-/// 1/2; `experiment::observer::p_correct`, threshold at p = 0.75): the threshold and the slope
+/// 1/2; `experiment::psychometric::p_correct`, threshold at p = 0.75): the threshold and the slope
 /// are estimated, the lapse rate is fixed.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
@@ -130,36 +132,6 @@ impl Default for QuestPlusSpec {
 }
 
 impl QuestPlusSpec {
-    /// A stop rule met after the first trial whatever its answer stops every track there, while
-    /// the design reads as `trials` per track (issue 42: `stop_width: 1e308` ran one trial a
-    /// track and `simulate` announced 96): refused.
-    fn check_stop_after_one(&self, w: f64, levels: &[u32]) -> Result<()> {
-        use super::interleave::Track;
-        let width = |q: &super::quest_plus::QuestPlus| {
-            let (_, lo, hi) = q.ln_threshold();
-            hi - lo
-        };
-        let prior = super::quest_plus::QuestPlus::new(levels, self);
-        let first = prior.level();
-        let after = [true, false].map(|correct| {
-            let mut q = prior.clone();
-            q.update(first, correct);
-            width(&q)
-        });
-        let widest = after[0].max(after[1]);
-        if widest < w {
-            bail!(
-                "field `procedure.quest_plus.stop_width` is {}, but the 95% interval of ln \
-                 threshold is at most {widest:.3} wide after the first trial (the prior's is \
-                 {:.3}), so every track would stop after one trial; expected a width below \
-                 {widest:.3} (0.5 is a factor 1.65 between the interval's ends)",
-                renderer::limits::shortest(w),
-                width(&prior)
-            );
-        }
-        Ok(())
-    }
-
     fn validate(&self, levels: &[u32]) -> Result<()> {
         if !(0.0..0.25).contains(&self.lapse) {
             bail!(
@@ -192,9 +164,6 @@ impl QuestPlusSpec {
         if let Some(t) = &self.threshold {
             t.validate(levels)?;
         }
-        if let Some(w) = self.stop_width {
-            self.check_stop_after_one(w, levels)?;
-        }
         Ok(())
     }
 }
@@ -209,10 +178,10 @@ pub struct ThresholdRange {
 
 impl ThresholdRange {
     /// The range must hold a point of the threshold grid, which spans the levels and a factor
-    /// e beyond them (`quest_plus::grid_range`).
+    /// e beyond them ([`grid_range`]).
     fn validate(&self, levels: &[u32]) -> Result<()> {
         let (lo, hi) = (self.lowest, self.highest);
-        let (grid_lo, grid_hi) = super::quest_plus::grid_range(levels);
+        let (grid_lo, grid_hi) = grid_range(levels);
         let (grid_lo, grid_hi) = (grid_lo.exp(), grid_hi.exp());
         if !(lo.is_finite() && hi.is_finite() && grid_lo <= lo && lo < hi && hi <= grid_hi) {
             bail!(
@@ -223,6 +192,14 @@ impl ThresholdRange {
         }
         Ok(())
     }
+}
+
+/// The ends (ln spp) of QUEST+'s threshold grid, and so of the prior when `threshold` is
+/// absent: a factor e beyond the lowest and the highest level.
+pub fn grid_range(levels: &[u32]) -> (f64, f64) {
+    let lowest = levels.iter().min().copied().unwrap_or(1);
+    let highest = levels.iter().max().copied().unwrap_or(1);
+    ((lowest as f64).ln() - 1.0, (highest as f64).ln() + 1.0)
 }
 
 /// The slope's prior: ln slope normal with this median and standard deviation.
