@@ -9,6 +9,7 @@
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod design;
+mod design_load;
 pub mod display;
 #[cfg(any(test, feature = "test-support"))]
 pub mod fixture;

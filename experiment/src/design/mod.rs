@@ -1,10 +1,9 @@
 //! The design file (`scenes/designs/<name>.json`, format `blurlab-design/1`): which stimuli a
 //! study shows and how. Factors (scenes x point sets x time filters) and test levels pick the
 //! test videos by their manifest ids; every field past `seed` has a default (see
-//! `docs/experiment.md`). [`Design::load`] (`load`) validates everything a session relies on,
+//! `docs/experiment.md`). [`Design::load`] (`crate::design_load`) validates everything a session relies on,
 //! naming the file and the field of every problem; `procedure` is the `procedure` field.
 
-mod load;
 pub mod procedure;
 
 use crate::keys;
@@ -14,7 +13,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-pub use load::MAX_PLAYBACK_FPS;
+/// Fastest playback rate a design may ask for: beyond 240 Hz no common display shows every
+/// frame, so frame pacing could not hold.
+pub const MAX_PLAYBACK_FPS: f64 = 240.0;
 
 /// The format tag every design file carries; readers refuse any other.
 pub const DESIGN_FORMAT: &str = "blurlab-design/1";

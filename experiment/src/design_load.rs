@@ -1,11 +1,12 @@
-//! Loading a design file: parsing, and every check a session relies on, each message naming
-//! the file and the field. It sits above the procedures: a design is refused when its
-//! adaptive procedure could not run it (`crate::procedure::check`), while the design's types
-//! (`super`) and its `procedure` field (`super::procedure`) import no procedure.
+//! Loading a design file (`Design::load`, `Design::parse`): parsing, and every check a session
+//! relies on, each message naming the file and the field. A module of its own above both the
+//! design's types (`crate::design`) and the procedures: a design is refused when its adaptive
+//! procedure could not run it (`crate::procedure::check`), and the procedures read the design's
+//! types, so the types cannot do the loading without a module cycle.
 
-use super::{
-    DESIGN_FORMAT, Design, DesignFile, MAX_ALTERNATIVES, MAX_TRIALS, Playback, ReferenceChoice,
-    ResponseKeys, Task,
+use crate::design::{
+    DESIGN_FORMAT, Design, DesignFile, MAX_ALTERNATIVES, MAX_PLAYBACK_FPS, MAX_TRIALS, Playback,
+    ReferenceChoice, ResponseKeys, Task,
 };
 use crate::keys::{self, RESERVED_KEYS};
 use anyhow::{Result, bail};
@@ -163,10 +164,6 @@ fn adaptive(f: &DesignFile) -> Result<()> {
     }
     Ok(())
 }
-
-/// Fastest playback rate a design may ask for: beyond 240 Hz no common display shows every
-/// frame, so frame pacing could not hold.
-pub const MAX_PLAYBACK_FPS: f64 = 240.0;
 
 fn playback(p: &Playback) -> Result<()> {
     if let Some(fps) = p.fps
