@@ -206,19 +206,12 @@ pub fn run(args: AnalyzeArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::Parser;
-
-    #[derive(Parser)]
-    struct Cli {
-        #[command(flatten)]
-        args: AnalyzeArgs,
-    }
 
     #[test]
     fn the_flags_defaults_are_the_options_defaults() {
-        let cli = Cli::try_parse_from(["analyze", "--out", "o", "logs"]).unwrap();
+        let cli = crate::cli::try_parse::<AnalyzeArgs>(&["analyze", "--out", "o", "logs"]).unwrap();
         let want = AnalyzeOptions::new(vec!["logs".into()], "o".into());
-        assert_eq!(cli.args.options(), want);
+        assert_eq!(cli.options(), want);
     }
 
     #[test]
@@ -232,11 +225,12 @@ mod tests {
             "--lapse",
             "free",
         ];
-        let cli = Cli::try_parse_from(
-            argv.into_iter()
-                .chain(["--test", "welch", "--unit", "cell", "x"]),
-        );
-        let o = cli.unwrap().args.options();
+        let argv: Vec<&str> = argv
+            .into_iter()
+            .chain(["--test", "welch", "--unit", "cell", "x"])
+            .collect();
+        let cli = crate::cli::try_parse::<AnalyzeArgs>(&argv);
+        let o = cli.unwrap().options();
         assert_eq!(
             (o.sigmoid, o.lapse, o.test, o.unit),
             (
@@ -246,10 +240,20 @@ mod tests {
                 Unit::Cell
             )
         );
-        let preset = Cli::try_parse_from(["analyze", "--out", "o", "--preset", "thesis", "x"]);
-        assert_eq!(preset.unwrap().args.options().preset, Some(Preset::Thesis));
+        let preset = crate::cli::try_parse::<AnalyzeArgs>(&[
+            "analyze", "--out", "o", "--preset", "thesis", "x",
+        ]);
+        assert_eq!(preset.unwrap().options().preset, Some(Preset::Thesis));
         assert!(
-            Cli::try_parse_from(["analyze", "--out", "o", "--sigmoid", "probit", "x"]).is_err()
+            crate::cli::try_parse::<AnalyzeArgs>(&[
+                "analyze",
+                "--out",
+                "o",
+                "--sigmoid",
+                "probit",
+                "x"
+            ])
+            .is_err()
         );
     }
 
@@ -265,7 +269,10 @@ mod tests {
             let argv = [
                 "analyze", "--preset", "thesis", extra[0], extra[1], "--out", "o", "in",
             ];
-            assert!(Cli::try_parse_from(argv).is_err(), "{extra:?}");
+            assert!(
+                crate::cli::try_parse::<AnalyzeArgs>(&argv).is_err(),
+                "{extra:?}"
+            );
         }
     }
 }

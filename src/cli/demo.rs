@@ -77,17 +77,10 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::Parser;
-
-    #[derive(Parser)]
-    struct Cli {
-        #[command(flatten)]
-        args: DemoArgs,
-    }
 
     #[test]
     fn the_flags_defaults_are_the_options_defaults() {
-        let cli = Cli::try_parse_from(["demo"]).unwrap();
-        assert_eq!(cli.args.options(), DemoOptions::default());
+        let cli = crate::cli::try_parse::<DemoArgs>(&["demo"]).unwrap();
+        assert_eq!(cli.options(), DemoOptions::default());
     }
 }

@@ -67,3 +67,13 @@ pub fn run(command: Command) -> anyhow::Result<()> {
         Command::Serve(args) => serve::run(&args),
     }
 }
+
+/// One command's flags parsed from `argv` (its first element the command's name): the harness
+/// of the command-line tests, in place of a test `Parser` per command.
+#[cfg(test)]
+pub(crate) fn try_parse<A: clap::Args + clap::FromArgMatches>(
+    argv: &[&str],
+) -> Result<A, clap::Error> {
+    let mut matches = A::augment_args(clap::Command::new("blurlab")).try_get_matches_from(argv)?;
+    A::from_arg_matches_mut(&mut matches)
+}

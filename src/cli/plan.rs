@@ -117,18 +117,12 @@ pub fn run(args: &PlanArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::Parser;
-
-    #[derive(Parser)]
-    struct Cli {
-        #[command(flatten)]
-        args: PlanArgs,
-    }
 
     #[test]
     fn the_flags_defaults_are_the_options_defaults() {
-        let cli = Cli::try_parse_from(["plan", "--design", "d", "--observer", "o"]).unwrap();
+        let cli = crate::cli::try_parse::<PlanArgs>(&["plan", "--design", "d", "--observer", "o"])
+            .unwrap();
         let want = PlanOptions::new("d".into(), "o".into());
-        assert_eq!(cli.args.options(), want);
+        assert_eq!(cli.options(), want);
     }
 }

@@ -231,18 +231,9 @@ pub fn run(cli: &PredictCli) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::Parser;
-
-    #[derive(Parser)]
-    struct Cli {
-        #[command(flatten)]
-        predict: PredictCli,
-    }
 
     fn parse(argv: &[&str]) -> PredictCli {
-        Cli::try_parse_from([&["predict"][..], argv].concat())
-            .unwrap()
-            .predict
+        crate::cli::try_parse(&[&["predict"][..], argv].concat()).unwrap()
     }
 
     #[test]

@@ -193,17 +193,10 @@ pub fn run(args: ConvergeArgs) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::Parser;
-
-    #[derive(Parser)]
-    struct Cli {
-        #[command(flatten)]
-        args: ConvergeArgs,
-    }
 
     fn parse(extra: &[&str]) -> Result<ConvergeArgs, clap::Error> {
         let argv = [&["converge", "scene.json"][..], extra].concat();
-        Cli::try_parse_from(argv).map(|c| c.args)
+        crate::cli::try_parse(&argv)
     }
 
     #[test]
