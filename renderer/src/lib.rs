@@ -1,7 +1,7 @@
 //! The renderer: motion-blurred distribution ray tracing of stimulus videos
 //! (thesis Chapter III), the sampling machinery the study compares, and stimulus jobs.
 //!
-//! Two layers, chosen by cargo features (docs/ARCHITECTURE.md): the light core (stimulus
+//! Two layers, chosen by cargo features (docs/ARCHITECTURE.md): the light core (`shared/`: stimulus
 //! ids, hashing, SHA-256 digests, atomic writes, the JSON and UTF-8 readers, limits, the stimulus manifest,
 //! the progress trait, the typed conditions) is always built, because the experiment and the analysis need it;
 //! feature `plot` adds the figures' font, and feature `tracer` (default) everything that
@@ -9,21 +9,14 @@
 //! tracer. The library knows no command line: `blurlab render` (the root package's
 //! `src/cli/render/`) parses the flags and calls it.
 
-// The light core.
-pub mod assets;
-pub mod atomic;
-pub mod condition;
-pub mod digest;
-pub mod hash;
-pub mod ids;
-pub mod json;
-pub mod limits;
-pub mod manifest;
-pub mod named;
-pub mod paths;
-pub mod progress;
-pub mod quote;
-pub mod utf8;
+// The light core: the vocabulary every crate shares, in one folder (`shared/`) that imports
+// nothing of the tracer. Re-exported here, so its modules keep their short paths
+// (`renderer::manifest`, `renderer::limits`, ...).
+pub mod shared;
+pub use shared::{
+    assets, atomic, condition, digest, hash, ids, json, limits, manifest, named, paths, progress,
+    quote, utf8,
+};
 
 #[cfg(feature = "plot")]
 pub mod plot_font;

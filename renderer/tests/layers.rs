@@ -56,7 +56,7 @@ fn lower_layers_do_not_import_the_job_layer() {
 #[test]
 fn progress_is_std_only_and_the_library_never_draws() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let core = std::fs::read_to_string(src.join("progress/mod.rs")).unwrap();
+    let core = std::fs::read_to_string(src.join("shared/progress/mod.rs")).unwrap();
     for line in core.lines() {
         let code = line.split("//").next().unwrap_or("").trim();
         assert!(
@@ -87,20 +87,39 @@ fn progress_is_std_only_and_the_library_never_draws() {
     );
 }
 
-/// The condition types (point set, time filter, spatial filter, `Condition`) import nothing of
-/// the crate but the enum-naming macro (`named.rs`, which imports nothing itself): the
-/// experiment and the analysis use them without the tracer.
+/// The shared vocabulary (`src/shared/`: ids, conditions, manifest, limits, digests, ...)
+/// imports nothing of the crate outside that folder: the experiment and the analysis build it
+/// without the tracer, and the folder shows what every crate may lean on.
 #[test]
-fn the_condition_types_stand_alone() {
-    for (file, allowed) in [("condition.rs", "crate::named!("), ("named.rs", "$crate::")] {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("src").join(file);
-        let text = std::fs::read_to_string(&path).unwrap();
-        let imports: Vec<&str> = text
-            .lines()
-            .map(|line| line.split("//").next().unwrap_or(""))
-            .filter(|code| code.contains("crate::") || code.contains("super::"))
-            .filter(|code| !code.contains("use super::*;") && !code.contains(allowed))
-            .collect();
-        assert!(imports.is_empty(), "{file} imports {imports:?}");
+fn the_shared_vocabulary_imports_nothing_of_the_tracer() {
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/shared");
+    let members: Vec<String> = std::fs::read_dir(&shared)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert!(members.contains(&"manifest".to_string()), "{members:?}");
+    let mut files = Vec::new();
+    sources(&shared, &mut files);
+    let mut outside = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        for (i, line) in text.lines().enumerate() {
+            let code = line.split("//").next().unwrap_or("");
+            for (at, _) in code.match_indices("crate::") {
+                let name: String = code[at + 7..]
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                if name != "shared" && !members.contains(&name) {
+                    outside.push(format!("{}:{}: {}", file.display(), i + 1, line.trim()));
+                }
+            }
+        }
     }
+    assert!(
+        outside.is_empty(),
+        "imports from outside shared/:\n{}",
+        outside.join("\n")
+    );
 }
