@@ -1,4 +1,5 @@
-//! The observer against human data: ModelFest (analysis/tests/data/modelfest) through the
+//! The observer against human data: Meese et al. 2007's cross-orientation masking through
+//! `blurlab predict validate meese2007` (last test), and ModelFest (analysis/tests/data/modelfest) through the
 //! model's pipeline with the committed parameters (pooling::FITTED, shape::FITTED, decision::DEFAULT_K, the
 //! fit of `blurlab predict validate modelfest` on all 43 stimuli). A subset keeps CI quick;
 //! the full validation's figures are in docs/predict.md.
@@ -105,4 +106,79 @@ fn a_noise_free_border_never_lowers_a_stimulus_visibility() {
         // the small field and not in the big one, which moves Q by about 2e-4 either way.
         assert!(q_big >= q * (1.0 - 1e-3), "{}: {q_big} < {q}", s.name);
     }
+}
+
+/// `blurlab predict validate meese2007` on a cut of the committed data (the 7 c/deg series,
+/// its unmasked and two masked thresholds): the report names each stage, shows the measured
+/// elevations and ends with the RMS figures; a file without a no-mask row is refused by name.
+#[test]
+fn meese2007_validation_reports_every_stage() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("analysis/tests/data/meese2007/thresholds.csv"),
+    )
+    .unwrap();
+    let lines: Vec<&str> = full.lines().collect();
+    let cut: Vec<&str> = [0, 8, 11, 14].iter().map(|&i| lines[i]).collect();
+    std::fs::write(dir.path().join("thresholds.csv"), cut.join("\n") + "\n").unwrap();
+    let out_file = dir.path().join("meese.md");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_blurlab"))
+        .args(["predict", "validate", "meese2007", "--no-progress", "--out"])
+        .arg(&out_file)
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report = std::fs::read_to_string(&out_file).unwrap();
+    assert_eq!(
+        report.trim_end(),
+        String::from_utf8_lossy(&out.stdout).trim_end()
+    );
+    // The measured elevations: 1.54% over 2.56% at a 5.51% mask, 2.19% at 44.26%.
+    assert!(
+        report.contains("| DJH | 7 | 5.51% | 1.54% | 0.60 |"),
+        "{report}"
+    );
+    assert!(
+        report.contains("| DJH | 7 | 44.26% | 2.19% | 0.85 |"),
+        "{report}"
+    );
+    assert_eq!(report.matches("| DJH | 7 |").count(), 3, "{report}");
+    for stage in ["difference |", "side-by-side |"] {
+        assert!(report.contains(stage), "{stage}: {report}");
+    }
+    assert!(
+        report.contains("elevations (2) | thresholds (3)"),
+        "{report}"
+    );
+    assert!(
+        report
+            .trim_end()
+            .lines()
+            .last()
+            .unwrap()
+            .starts_with("Lowest elevation error: ")
+    );
+
+    std::fs::write(
+        dir.path().join("thresholds.csv"),
+        format!("{}\n{}\n", lines[0], lines[9]),
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_blurlab"))
+        .args(["predict", "validate", "meese2007", "--no-progress"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("thresholds.csv") && err.contains("0 no-mask"),
+        "{err}"
+    );
 }

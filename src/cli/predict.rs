@@ -1,4 +1,4 @@
-//! `blurlab predict <stimulus set>`, `predict validate modelfest DIR`, `predict frames`,
+//! `blurlab predict <stimulus set>`, `predict validate modelfest|meese2007 DIR`, `predict frames`,
 //! `predict explain`: the flags of `analysis::predict::options`, whose defaults they repeat (a
 //! test checks that they agree), and what each prints.
 
@@ -6,7 +6,7 @@ use crate::cli::progress::{Look, Terminal};
 use analysis::predict::decision::DEFAULT_K;
 use analysis::predict::options::{
     ExplainOptions, FramesOptions, PredictOptions, combine_frames, explain, run_predict,
-    validate_modelfest,
+    validate_meese, validate_modelfest,
 };
 use analysis::predict::video::Comparison;
 use anyhow::Result;
@@ -85,12 +85,17 @@ pub struct FramesArgs {
 #[derive(Subcommand, Clone, Debug)]
 pub enum ValidateData {
     /// ModelFest's 43 stimuli and 16 observers' thresholds (analysis/tests/data/modelfest).
-    Modelfest(ModelfestArgs),
+    Modelfest(DataArgs),
+    /// Meese et al. 2007: a grating's detection threshold under an orthogonal mask, two
+    /// observers at 1 and 7 c/deg (analysis/tests/data/meese2007): how much each decision
+    /// stage masks across orientations, as errors of the threshold elevations in dB.
+    Meese2007(DataArgs),
 }
 
 #[derive(Args, Clone, Debug)]
-pub struct ModelfestArgs {
-    /// The ModelFest folder (stimuli.json, thresholds.csv, stimuli/*.png).
+pub struct DataArgs {
+    /// The data set's folder: ModelFest's (stimuli.json, thresholds.csv, stimuli/*.png) or
+    /// Meese et al. 2007's (thresholds.csv), as in analysis/tests/data/.
     pub dir: PathBuf,
     /// Also write the report to this file (Markdown).
     #[arg(long)]
@@ -201,9 +206,17 @@ impl FramesArgs {
 pub fn run(cli: &PredictCli) -> Result<()> {
     let args = match (&cli.command, &cli.args) {
         (Some(PredictCommand::Validate { data }), _) => {
-            let ValidateData::Modelfest(m) = data;
-            let bar = Terminal::new(Look::Steps, !m.no_progress);
-            println!("{}", validate_modelfest(&m.dir, m.out.as_deref(), &bar)?);
+            let report = match data {
+                ValidateData::Modelfest(m) => {
+                    let bar = Terminal::new(Look::Steps, !m.no_progress);
+                    validate_modelfest(&m.dir, m.out.as_deref(), &bar)?
+                }
+                ValidateData::Meese2007(m) => {
+                    let bar = Terminal::new(Look::Steps, !m.no_progress);
+                    validate_meese(&m.dir, m.out.as_deref(), &bar)?
+                }
+            };
+            println!("{report}");
             return Ok(());
         }
         (Some(PredictCommand::Frames(f)), _) => {

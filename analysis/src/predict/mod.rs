@@ -22,6 +22,8 @@
 //! | `output` | `predicted.csv`, `predicted_jnd.csv`, `predict.md`, a figure per scene |
 //! | `calibrate` | the sensitivity constant fitted to real sessions, leave-one-condition-out |
 //! | `modelfest` | the ModelFest data set loaded and run through the pipeline |
+//! | `masking_validation` | the decision stages against Meese's masking data, errors in dB |
+//! | `meese` | Meese et al. 2007 cross-orientation masking: the data and the model's thresholds |
 //! | `validate` | k, the pooling and the CSF's shape fitted to ModelFest, errors, leave-one-out |
 //! | `options` | what `blurlab predict` and its subcommands are asked to do, run end to end |
 //!
@@ -37,6 +39,8 @@ pub mod explain;
 pub mod frames;
 pub mod local;
 pub mod masking;
+pub mod masking_validation;
+pub mod meese;
 pub mod modelfest;
 pub mod options;
 pub mod output;

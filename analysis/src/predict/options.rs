@@ -120,6 +120,19 @@ pub fn validate_modelfest(
     Ok(report)
 }
 
+/// Validate the decision stages against Meese et al. 2007's cross-orientation masking (the
+/// folder `dir`: thresholds.csv); returns the report, also written to `out` if given.
+pub fn validate_meese(dir: &Path, out: Option<&Path>, progress: &dyn Progress) -> Result<String> {
+    let series = super::meese::load(dir)?;
+    let runs =
+        super::masking_validation::run(&series, &super::masking_validation::stages(), progress)?;
+    let report = super::masking_validation::markdown(&runs);
+    if let Some(out) = out {
+        renderer::atomic::write_atomic(out, format!("{report}\n").as_bytes())?;
+    }
+    Ok(report)
+}
+
 /// A stimulus set's prediction (`blurlab predict SET`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PredictOptions {
