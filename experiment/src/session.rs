@@ -132,7 +132,7 @@ impl Session {
         if design.file.task != Task::TwoPair {
             bail!(
                 "{}: field `task` is {}; sessions present the two-pair task only (a design with \
-                 another task describes data collected elsewhere, for `analyze --design`)",
+                 another task describes data collected elsewhere, for `blurlab analyze --design`)",
                 design.path.display(),
                 design.file.task
             );

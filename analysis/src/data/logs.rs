@@ -58,7 +58,7 @@ impl Dataset {
                 Err(e) => match e.downcast_ref::<TornHeader>() {
                     Some(torn) if lenient => skipped.push(format!("{torn}: skipped (--lenient)")),
                     Some(_) => bail!(
-                        "{e}; remove the file, or `analyze --lenient` skips it with a warning"
+                        "{e}; remove the file, or `blurlab analyze --lenient` skips it with a warning"
                     ),
                     None => return Err(e),
                 },
@@ -130,7 +130,7 @@ impl Dataset {
         let findings = crate::validate::check(logs, design, manifest);
         if let (Some(f), false) = (findings.first(), lenient) {
             bail!(
-                "{}{}; `analyze --lenient` leaves such trials out with a warning",
+                "{}{}; `blurlab analyze --lenient` leaves such trials out with a warning",
                 f.message,
                 match findings.len() {
                     1 => String::new(),

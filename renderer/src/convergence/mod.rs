@@ -182,7 +182,7 @@ pub fn write_report(stimuli_dir: &Path, out_dir: &Path) -> Result<ReportFiles> {
     if rows.is_empty() {
         return Err(anyhow!(
             "{}: no stimulus has an error against a reference; is the job finished \
-             (`render job ... --finalize`)?",
+             (`blurlab render job ... --finalize`)?",
             crate::manifest::manifest_file(stimuli_dir).display()
         ));
     }

@@ -85,7 +85,7 @@ impl JobLock {
                     h.part.replace('-', " ")
                 };
                 bail!(
-                    "{} is being rendered by another `render job` (process {}, {theirs}; lock \
+                    "{} is being rendered by another `blurlab render job` (process {}, {theirs}; lock \
                      file {}). Wait for it to finish, or run disjoint shards side by side \
                      (--shard K/N); if process {} is not a render, delete the lock file",
                     job_dir.display(),

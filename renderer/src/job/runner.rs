@@ -149,7 +149,7 @@ pub fn run_with_sources(
         if let Some(&(s, f)) = missing.first() {
             bail!(
                 "{}: {} frames are not rendered yet (first: {} frame {f}); run the remaining \
-                 shards (or `render job` without --shard) first",
+                 shards (or `blurlab render job` without --shard) first",
                 job_dir.display(),
                 missing.len(),
                 plan.specs[s].id
