@@ -85,17 +85,33 @@ pub struct FramesArgs {
 #[derive(Subcommand, Clone, Debug)]
 pub enum ValidateData {
     /// ModelFest's 43 stimuli and 16 observers' thresholds (analysis/tests/data/modelfest).
-    Modelfest(DataArgs),
+    Modelfest(ModelfestArgs),
     /// Meese et al. 2007: a grating's detection threshold under an orthogonal mask, two
     /// observers at 1 and 7 c/deg (analysis/tests/data/meese2007): how much each decision
     /// stage masks across orientations, as errors of the threshold elevations in dB.
-    Meese2007(DataArgs),
+    Meese2007(MeeseArgs),
 }
 
 #[derive(Args, Clone, Debug)]
-pub struct DataArgs {
-    /// The data set's folder: ModelFest's (stimuli.json, thresholds.csv, stimuli/*.png) or
-    /// Meese et al. 2007's (thresholds.csv), as in analysis/tests/data/.
+pub struct MeeseArgs {
+    /// The data set's folder (thresholds.csv), as analysis/tests/data/meese2007.
+    pub dir: PathBuf,
+    /// The cross-orientation weights w searched for the side-by-side stage (comma-separated,
+    /// each in [0, 1]).
+    #[arg(long, value_delimiter = ',', default_values_t = analysis::predict::masking_validation::CROSS_WEIGHTS,
+          value_parser = renderer::limits::real(0.0, 1.0, false, "a cross-orientation weight in [0, 1]"))]
+    pub cross_weights: Vec<f64>,
+    /// Also write the report to this file (Markdown).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Hide the progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+#[derive(Args, Clone, Debug)]
+pub struct ModelfestArgs {
+    /// The ModelFest folder (stimuli.json, thresholds.csv, stimuli/*.png).
     pub dir: PathBuf,
     /// Also write the report to this file (Markdown).
     #[arg(long)]
@@ -213,7 +229,7 @@ pub fn run(cli: &PredictCli) -> Result<()> {
                 }
                 ValidateData::Meese2007(m) => {
                     let bar = Terminal::new(Look::Steps, !m.no_progress);
-                    validate_meese(&m.dir, m.out.as_deref(), &bar)?
+                    validate_meese(&m.dir, &m.cross_weights, m.out.as_deref(), &bar)?
                 }
             };
             println!("{report}");

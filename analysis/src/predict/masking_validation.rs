@@ -4,12 +4,14 @@
 //! ModelFest's presentation, for reference). `blurlab predict validate meese2007`.
 
 use super::meese::{Line, Series, elevation_rms_db, predict, threshold_rms_db};
+use super::orientation::{ORIENTATIONS, OrientationMasking};
 use super::video::{Comparison, Filters};
 use anyhow::Result;
 use renderer::progress::Progress;
 use std::fmt::Write as _;
 
 /// One model's predictions.
+#[derive(Clone)]
 pub struct Run {
     /// The stage's name as the report gives it.
     pub name: String,
@@ -17,20 +19,52 @@ pub struct Run {
 }
 
 /// A model to run: its name and how to build its filters.
-pub struct Model {
+pub struct Model<'a> {
     pub name: String,
-    pub make: Box<dyn Fn() -> Result<Filters> + Sync>,
+    pub make: Box<dyn Fn() -> Result<Filters> + Sync + 'a>,
 }
 
-/// The committed decision stages: `difference` and `side-by-side`.
-pub fn stages() -> Vec<Model> {
-    [Comparison::Difference, Comparison::SideBySide]
-        .into_iter()
-        .map(|c| Model {
-            name: super::stage::Stage::given(c).name().to_string(),
-            make: Box::new(move || super::meese::filters(c)),
-        })
-        .collect()
+/// The stages compared with the fitted one: `difference`, and `side-by-side` as first built
+/// (orientations pooled before the comparison).
+pub fn stages() -> Vec<Model<'static>> {
+    vec![
+        Model {
+            name: "difference".into(),
+            make: Box::new(|| super::meese::filters(Comparison::Difference, None)),
+        },
+        Model {
+            name: "side-by-side (pooled)".into(),
+            make: Box::new(|| super::meese::filters(Comparison::SideBySide, None)),
+        },
+    ]
+}
+
+/// The cross-orientation weights searched: 0 (masking within orientation only), then
+/// log-spaced up to 1 (every orientation masks alike).
+pub const CROSS_WEIGHTS: [f64; 6] = [0.0, 0.01, 0.03, 0.1, 0.3, 1.0];
+
+/// The side-by-side stage with orientation channels, its cross-orientation weight fitted.
+pub fn fit_cross_weight(
+    series: &[Series],
+    weights: &[f64],
+    progress: &dyn Progress,
+) -> Result<ParameterFit> {
+    let make = |w: f64| {
+        super::meese::filters(
+            Comparison::SideBySide,
+            Some(OrientationMasking {
+                orientations: ORIENTATIONS,
+                cross_weight: w,
+            }),
+        )
+    };
+    fit_parameter(
+        series,
+        "cross-orientation weight w",
+        weights,
+        &make,
+        progress,
+    )
 }
 
 /// Every model on the data set.
@@ -50,6 +84,89 @@ pub fn run(series: &[Series], models: &[Model], progress: &dyn Progress) -> Resu
         .collect::<Result<Vec<_>>>();
     progress.finish();
     runs
+}
+
+/// A stage parameter fitted to the elevations: each candidate value's predictions, the best
+/// (least RMS error of the masked elevations) and leave-one-out (each masked elevation
+/// predicted with the value fitted to the others).
+pub struct ParameterFit {
+    /// The parameter's name as the report gives it.
+    pub name: String,
+    pub values: Vec<f64>,
+    pub runs: Vec<Run>,
+    pub best: usize,
+    /// Per masked threshold (in the runs' order): the left-out prediction and the measured
+    /// elevation.
+    pub left_out: Vec<(Option<f64>, f64)>,
+}
+
+impl ParameterFit {
+    /// The leave-one-out RMS error of the elevations, dB.
+    pub fn loo_rms_db(&self) -> f64 {
+        super::meese::rms_db(self.left_out.iter().copied())
+    }
+}
+
+/// Fit the parameter `name` over `values`, `make(v)` building the stage's filters at value v.
+pub fn fit_parameter(
+    series: &[Series],
+    name: &str,
+    values: &[f64],
+    make: &(dyn Fn(f64) -> Result<Filters> + Sync),
+    progress: &dyn Progress,
+) -> Result<ParameterFit> {
+    let models: Vec<Model> = values
+        .iter()
+        .map(|&v| Model {
+            name: format!("{name} = {v}"),
+            make: Box::new(move || make(v)),
+        })
+        .collect();
+    let runs = run(series, &models, progress)?;
+    let masked: Vec<usize> = (0..runs.first().map_or(0, |r| r.lines.len()))
+        .filter(|&i| runs[0].lines[i].mask > 0.0)
+        .collect();
+    let error = |r: &Run, skip: Option<usize>| -> f64 {
+        super::meese::rms_db(masked.iter().filter(|&&i| Some(i) != skip).map(|&i| {
+            (
+                r.lines[i].predicted_elevation,
+                r.lines[i].measured_elevation,
+            )
+        }))
+    };
+    let argmin = |skip: Option<usize>| -> usize {
+        (0..runs.len())
+            .min_by(|&a, &b| error(&runs[a], skip).total_cmp(&error(&runs[b], skip)))
+            .unwrap_or(0)
+    };
+    let left_out = masked
+        .iter()
+        .map(|&i| {
+            let l = &runs[argmin(Some(i))].lines[i];
+            (l.predicted_elevation, l.measured_elevation)
+        })
+        .collect();
+    Ok(ParameterFit {
+        name: name.to_string(),
+        values: values.to_vec(),
+        best: argmin(None),
+        runs,
+        left_out,
+    })
+}
+
+/// The report of `blurlab predict validate meese2007`: the committed stages, the oriented
+/// side-by-side stage with its cross-orientation weight fitted (and leave-one-out).
+pub fn validate(series: &[Series], weights: &[f64], progress: &dyn Progress) -> Result<String> {
+    if weights.is_empty() {
+        anyhow::bail!("no cross-orientation weight to search; expected at least one in [0, 1]");
+    }
+    let mut runs = run(series, &stages(), progress)?;
+    let fit = fit_cross_weight(series, weights, progress)?;
+    let mut best = fit.runs[fit.best].clone();
+    best.name = format!("side-by-side (w = {})", fit.values[fit.best]);
+    runs.push(best);
+    Ok(markdown(&runs) + &fit_markdown(&fit))
 }
 
 /// A contrast as a percentage, or "> 100%".
@@ -129,6 +246,33 @@ pub fn markdown(runs: &[Run]) -> String {
             elevation_rms_db(&best.lines)
         );
     }
+    s
+}
+
+/// The fit as Markdown: the error at each value, the best, leave-one-out.
+pub fn fit_markdown(fit: &ParameterFit) -> String {
+    let mut s = format!(
+        "\n## {} fitted to the elevations\n\n| {} | RMS error of the elevations (dB) |\n|---|---|\n",
+        fit.name, fit.name
+    );
+    for (v, r) in fit.values.iter().zip(&fit.runs) {
+        let mark = if std::ptr::eq(r, &fit.runs[fit.best]) {
+            " (best)"
+        } else {
+            ""
+        };
+        let _ = writeln!(s, "| {v}{mark} | {:.2} |", elevation_rms_db(&r.lines));
+    }
+    let _ = write!(
+        s,
+        "\n{} = {}: RMS error {:.2} dB; leave-one-out (each elevation predicted with the value \
+         fitted to the other {}) {:.2} dB",
+        fit.name,
+        fit.values[fit.best],
+        elevation_rms_db(&fit.runs[fit.best].lines),
+        fit.left_out.len().saturating_sub(1),
+        fit.loo_rms_db()
+    );
     s
 }
 

@@ -7,8 +7,8 @@
 //!
 //! Why these data: a decision stage that masks noise by the scene's content must not mask
 //! across orientations as strongly as within. The model sees each stimulus as one static
-//! frame, L(x) = L0 (1 + C_t w(x) cos(2 pi f y) + C_m w(x) cos(2 pi f x)) on ModelFest's
-//! display (30 cd/m^2, 120 pixels per degree), in a 2IFC whose reference is the mask alone
+//! frame, L(x) = L0 (1 + C_t w(x) cos(2 pi f y) + C_m w(x) cos(2 pi f x)) at ModelFest's
+//! luminance (30 cd/m^2) and 60 pixels per degree, in a 2IFC whose reference is the mask alone
 //! (Meese's mask was in both intervals): the threshold is the target contrast C_t at which
 //! k Q reaches the 2IFC 84% point, as for ModelFest ([`super::modelfest`]). The validated
 //! figure is the threshold elevation T / T0 (masked over unmasked threshold): the paper's
@@ -18,16 +18,20 @@
 //! the static frame's elevation.
 
 use super::decision::{CRITERION, DEFAULT_K, two_ifc_d_prime_for};
-use super::modelfest::{MEAN_LUMINANCE, PIXELS_PER_DEGREE};
+use super::modelfest::MEAN_LUMINANCE;
+use super::orientation::OrientationMasking;
 use super::pooling::{FITTED, Grid, Placement};
 use super::video::{Comparison, Filters, Viewing, frame_differences};
 use anyhow::{Context, Result, bail};
 use serde::Deserialize;
 use std::path::Path;
 
-/// Side of the model's frames, pixels (4.27 deg at 120 px/deg: the 1 c/deg patch, 4 cycles
-/// across to its edge, fits with room for the adaptation's blur).
-pub const SIDE: usize = 512;
+/// Pixels per degree of the model's frames: 8.6 pixels per cycle at 7 c/deg, and a quarter of
+/// the pixels ModelFest's 120 would take (the validation searches many thresholds).
+pub const PIXELS_PER_DEGREE: f64 = 60.0;
+/// Side of the model's frames, pixels (4.27 deg: the 1 c/deg patch, 4 cycles across to its
+/// edge, fits with room for the adaptation's blur).
+pub const SIDE: usize = 256;
 /// The window's flat top, radius in carrier cycles.
 const FLAT_CYCLES: f64 = 1.0;
 /// The window's raised-cosine edge, width in carrier cycles.
@@ -180,12 +184,17 @@ fn window(r: f64) -> f64 {
 /// The luminance frame: a horizontal target of contrast `target` and a vertical mask of
 /// contrast `mask`, both of `cpd` cycles per degree in one window, cosine phase at the centre.
 pub fn frame(cpd: f64, target: f64, mask: f64) -> Vec<f32> {
-    let c = SIDE as f64 / 2.0;
-    let cycles_per_px = cpd / PIXELS_PER_DEGREE;
+    frame_at(cpd, target, mask, SIDE, PIXELS_PER_DEGREE)
+}
+
+/// [`frame`] on `side` x `side` pixels at `ppd` pixels per degree.
+fn frame_at(cpd: f64, target: f64, mask: f64, side: usize, ppd: f64) -> Vec<f32> {
+    let c = side as f64 / 2.0;
+    let cycles_per_px = cpd / ppd;
     let omega = 2.0 * std::f64::consts::PI * cycles_per_px;
-    (0..SIDE * SIDE)
+    (0..side * side)
         .map(|i| {
-            let (x, y) = ((i % SIDE) as f64 - c, (i / SIDE) as f64 - c);
+            let (x, y) = ((i % side) as f64 - c, (i / side) as f64 - c);
             let w = window((x * x + y * y).sqrt() * cycles_per_px);
             let l = 1.0 + w * (target * (omega * y).cos() + mask * (omega * x).cos());
             (MEAN_LUMINANCE * l) as f32
@@ -206,11 +215,12 @@ pub fn viewing() -> Viewing {
 }
 
 /// The model's filters for these frames with the decision stage `comparison` (the committed
-/// pooling, CSF shape and knee).
-pub fn filters(comparison: Comparison) -> Result<Filters> {
+/// pooling, CSF shape and knee) and the side-by-side stage's orientation masking.
+pub fn filters(comparison: Comparison, orientation: Option<OrientationMasking>) -> Result<Filters> {
     Ok(
         Filters::new(viewing(), FITTED.channels, super::shape::FITTED)?
-            .comparing(comparison, FITTED.space),
+            .comparing(comparison, FITTED.space)
+            .orientation_masking(orientation),
     )
 }
 
@@ -291,7 +301,9 @@ pub struct Line {
 /// The unmasked threshold of a patch at ModelFest's presentation (time course, 1 s video),
 /// from the model's separable detection response ([`super::modelfest::response`]).
 fn presented_threshold(cpd: f64) -> Result<f64> {
-    let contrast: Vec<f32> = frame(cpd, 1.0, 0.0)
+    // ModelFest's viewing is 120 px/deg: the same patch in degrees takes twice the pixels.
+    let (side, ppd) = (2 * SIDE, super::modelfest::PIXELS_PER_DEGREE);
+    let contrast: Vec<f32> = frame_at(cpd, 1.0, 0.0, side, ppd)
         .iter()
         .map(|&l| l / MEAN_LUMINANCE as f32 - 1.0)
         .collect();
@@ -299,8 +311,8 @@ fn presented_threshold(cpd: f64) -> Result<f64> {
         number: 0,
         name: format!("meese {cpd} c/deg"),
         family: "meese".into(),
-        width: SIDE,
-        height: SIDE,
+        width: side,
+        height: side,
         contrast,
         measured: f64::NAN,
         observations: 0,
@@ -457,22 +469,22 @@ mod tests {
         let l0 = MEAN_LUMINANCE as f32;
         // Centre: both cosines at their peak.
         assert!((f[c * SIDE + c] / l0 - 1.32).abs() < 1e-6);
-        // Half a cycle up (60 px at 1 c/deg, still on the flat top): the target at its trough.
-        assert!((f[(c - 60) * SIDE + c] / l0 - (1.0 - 0.02 + 0.3)).abs() < 1e-5);
-        // Beyond 2 cycles (240 px) the field is uniform.
-        assert_eq!(f[c * SIDE + c + 241], l0);
+        // Half a cycle up (30 px at 1 c/deg, still on the flat top): the target at its trough.
+        assert!((f[(c - 30) * SIDE + c] / l0 - (1.0 - 0.02 + 0.3)).abs() < 1e-5);
+        // Beyond 2 cycles (120 px) the field is uniform.
+        assert_eq!(f[c * SIDE + c + 121], l0);
         assert_eq!(f[0], l0);
-        // At 7 c/deg the window is 7 times smaller: 2 cycles = 34.3 px.
+        // At 7 c/deg the window is 7 times smaller: 2 cycles = 17.1 px.
         let g = frame(7.0, 0.0, 0.5);
-        assert_eq!(g[c * SIDE + c + 35], l0);
-        assert!(g[c * SIDE + c + 33] != l0);
+        assert_eq!(g[c * SIDE + c + 18], l0);
+        assert!(g[c * SIDE + c + 16] != l0);
     }
 
     #[test]
     fn the_threshold_search_lands_on_the_criterion() {
         // The difference stage on a blank field is linear in the target's contrast, so the
         // search's answer can be checked in closed form: d'(T) = d'_84 and d'(2T) = 2 d'_84.
-        let mut f = filters(Comparison::Difference).unwrap();
+        let mut f = filters(Comparison::Difference, None).unwrap();
         let t = threshold(&mut f, 7.0, 0.0).unwrap().unwrap();
         let want = two_ifc_d_prime_for(CRITERION).unwrap();
         assert!((d_prime(&mut f, 7.0, t, 0.0).unwrap() / want - 1.0).abs() < 1e-4);
@@ -482,5 +494,25 @@ mod tests {
         let tm = threshold(&mut f, 7.0, 0.45).unwrap().unwrap();
         assert!(tm > 1.5 * t, "{tm} against {t}");
         assert!(t > 1e-3 && t < 0.1, "{t}");
+    }
+
+    #[test]
+    fn an_orthogonal_mask_masks_little_once_orientations_are_compared_apart() {
+        // Meese's strongest mask (45%, orthogonal) at 7 c/deg: the observer's elevation is
+        // 0.85. Pooled before the comparison, the mask adds in quadrature to the target's
+        // amplitude and raises its threshold about 20x; compared per orientation channel with
+        // w = 0, the target's channel holds only what the small patch's spectrum spreads past
+        // 45 deg from the mask's orientation (1.71 on 28 Nov): within the observers' range at
+        // this mask (0.85 at 7 c/deg, 2.9 at 1 c/deg), a fifth or less of the pooled.
+        let elevation = |orientation| {
+            let mut f = filters(Comparison::SideBySide, orientation).unwrap();
+            let t0 = threshold(&mut f, 7.0, 0.0).unwrap().unwrap();
+            threshold(&mut f, 7.0, 0.45).unwrap().unwrap() / t0
+        };
+        let pooled = elevation(None);
+        let apart = elevation(Some(crate::predict::orientation::COMMITTED));
+        assert!(pooled > 10.0, "{pooled}");
+        assert!(apart > 0.9 && apart < 2.9, "{apart}");
+        assert!(pooled > 5.0 * apart, "{pooled} against {apart}");
     }
 }

@@ -10,6 +10,7 @@
 //! | `bands` | 2D FFT, octave bands, CSF weighting |
 //! | `local` | sum-preserving Gaussian local means on a coarse grid (the side-by-side stage's neighbourhood) |
 //! | `masking` | threshold elevation by the reference's contrast |
+//! | `orientation` | orientation channels for the side-by-side stage's masking, the cross-orientation weight |
 //! | `transducer` | the side-by-side stage's discrimination of suprathreshold contrast (Weber-like) |
 //! | `pooling` | Minkowski pooling over channels, space and time, the aperture (fitted) |
 //! | `shape` | the CSF's shape and oblique effect as ModelFest's observers have them (fitted) |
@@ -43,6 +44,7 @@ pub mod masking_validation;
 pub mod meese;
 pub mod modelfest;
 pub mod options;
+pub mod orientation;
 pub mod output;
 pub mod pooling;
 pub mod preflight;

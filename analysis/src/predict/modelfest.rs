@@ -266,8 +266,19 @@ pub fn response(s: &Stimulus, grid: &Grid, shapes: &[Shape]) -> Result<Vec<f64>>
 /// The same through the whole pipeline, frame by frame, at [`PROBE_CONTRAST`] (the suite's
 /// code path: adaptation, channels, bands, masking).
 pub fn response_by_frames(s: &Stimulus, pooling: Pooling, shape: Shape) -> Result<f64> {
+    response_by_frames_in(s, pooling, shape, &|f| f)
+}
+
+/// As [`response_by_frames`], with the filters set up by `stage` (a decision stage other than
+/// the difference, e.g. the side-by-side stage with orientation channels).
+pub fn response_by_frames_in(
+    s: &Stimulus,
+    pooling: Pooling,
+    shape: Shape,
+    stage: &dyn Fn(Filters) -> Filters,
+) -> Result<f64> {
     let background = vec![MEAN_LUMINANCE as f32; s.contrast.len()];
-    let mut filters = Filters::new(viewing(s), pooling.channels, shape)?;
+    let mut filters = stage(Filters::new(viewing(s), pooling.channels, shape)?);
     let per_frame = frame_differences(&mut filters, &Grid::one(pooling), Placement::Centre, |n| {
         let a = (MEAN_LUMINANCE * PROBE_CONTRAST * time_course(n)) as f32;
         let test = s

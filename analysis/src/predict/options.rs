@@ -121,12 +121,16 @@ pub fn validate_modelfest(
 }
 
 /// Validate the decision stages against Meese et al. 2007's cross-orientation masking (the
-/// folder `dir`: thresholds.csv); returns the report, also written to `out` if given.
-pub fn validate_meese(dir: &Path, out: Option<&Path>, progress: &dyn Progress) -> Result<String> {
+/// folder `dir`: thresholds.csv), the side-by-side stage's cross-orientation weight fitted over
+/// `cross_weights`; returns the report, also written to `out` if given.
+pub fn validate_meese(
+    dir: &Path,
+    cross_weights: &[f64],
+    out: Option<&Path>,
+    progress: &dyn Progress,
+) -> Result<String> {
     let series = super::meese::load(dir)?;
-    let runs =
-        super::masking_validation::run(&series, &super::masking_validation::stages(), progress)?;
-    let report = super::masking_validation::markdown(&runs);
+    let report = super::masking_validation::validate(&series, cross_weights, progress)?;
     if let Some(out) = out {
         renderer::atomic::write_atomic(out, format!("{report}\n").as_bytes())?;
     }

@@ -22,6 +22,7 @@ use super::bands::{Fft2, band_centres, frequencies, radial_frequencies, window};
 use super::csf::{SUSTAINED, TRANSIENT, spatial, sustained_response, transient_response};
 use super::local::LocalMean;
 use super::masking::{EPSILON, threshold_elevation};
+use super::orientation::{self, OrientationMasking};
 use super::pooling::{ChannelSums, Grid, Placement};
 use super::shape::Shape;
 use super::temporal::{Kernel, kernel};
@@ -61,13 +62,13 @@ pub enum Comparison {
     #[default]
     Difference,
     /// Side by side or in sequence, as the suite's trials show the pair: each video's local
-    /// contrast amplitude a (its CSF-weighted band norm to the space exponent beta, averaged
-    /// under a Gaussian of [`ADAPTATION_SIGMA_DEG`]: a_V = (G * N_V^beta)^(1/beta)), through
-    /// the Weber-like transducer of [`super::transducer`], and the cue |R(a_T) - R(a_R)|^beta
-    /// in place of D^beta (docs/predict.md, "The side-by-side stage"). The scene's content and
-    /// the noise both raise a, so each masks the other. Against a blank reference, below the
-    /// transducer's knee, it is the difference's D^beta blurred, which keeps its sum over the
-    /// frame: detection, as fitted to ModelFest.
+    /// contrast amplitude per band and orientation channel, masked by the channel's local
+    /// energy through the Weber-like transducer of [`super::transducer`], and the two videos'
+    /// amplitudes compared channel by channel ([`super::orientation`], [`add_oriented`],
+    /// [`read_at_aperture`]; docs/predict.md, "Decision stages"). The scene's content and the
+    /// noise both raise the energy, so each masks the other within its channel. Without
+    /// orientation channels ([`Filters::orientation_masking`] with `None`) it is the stage as
+    /// first built: the channels' amplitudes summed before the comparison.
     SideBySide,
 }
 
@@ -86,6 +87,13 @@ pub struct Filters {
     side_by_side: Option<(f64, f32)>,
     /// The side-by-side stage's local means.
     local: Option<LocalMean>,
+    /// The side-by-side stage's orientation channels ([`super::orientation`]), with each
+    /// channel's window W_o^(1/beta_c) per coefficient.
+    orientation: Option<(OrientationMasking, Vec<Vec<f32>>)>,
+    /// With orientation channels, the cue's neighbourhood: the fitted aperture itself (its
+    /// weight on D^beta, a Gaussian of sd s / sqrt(beta)), so the cue is read at the
+    /// aperture's place ([`read_at_aperture`]) instead of summed under it.
+    cue_local: Option<LocalMean>,
 }
 
 impl Filters {
@@ -154,12 +162,15 @@ impl Filters {
             ],
             side_by_side: None,
             local: None,
+            orientation: None,
+            cue_local: None,
         })
     }
 
     /// These filters comparing as `comparison` says, with space exponent `space` (beta). The
     /// side-by-side stage's knee is the detection threshold of ModelFest's fit
-    /// ([`super::transducer::knee`] with [`super::decision::DEFAULT_K`]).
+    /// ([`super::transducer::knee`] with [`super::decision::DEFAULT_K`]), and it compares the
+    /// videos per orientation channel ([`super::orientation::COMMITTED`]).
     pub fn comparing(self, comparison: Comparison, space: f64) -> Self {
         let d84 = super::decision::two_ifc_d_prime_for(super::decision::CRITERION)
             .expect("the criterion is inside (0.5, 1)");
@@ -169,7 +180,9 @@ impl Filters {
             super::pooling::FITTED.aperture_deg,
             space,
         );
+        let oriented = (comparison == Comparison::SideBySide).then_some(orientation::COMMITTED);
         self.comparing_with_knee(comparison, space, a0)
+            .orientation_masking(oriented)
     }
 
     /// As [`Filters::comparing`], with the transducer's knee `a0` given (infinite: no
@@ -180,6 +193,40 @@ impl Filters {
         self.local = self
             .side_by_side
             .map(|_| LocalMean::new(v.width, v.height, v.pixels_per_degree, ADAPTATION_SIGMA_DEG));
+        self
+    }
+
+    /// The side-by-side stage's masking split into orientation channels (`None`: each band's
+    /// masker pools every orientation, the stage as first committed).
+    pub fn orientation_masking(mut self, masking: Option<OrientationMasking>) -> Self {
+        let v = self.viewing;
+        let root = 1.0 / self.channel_exponent;
+        self.orientation = masking.map(|m| {
+            let k = m.orientations.max(2);
+            let windows = (0..k)
+                .map(|o| {
+                    frequencies(v.width, v.height, v.pixels_per_degree)
+                        .map(|(fx, fy)| orientation::window(k, o, fx, fy).powf(root) as f32)
+                        .collect()
+                })
+                .collect();
+            (
+                OrientationMasking {
+                    orientations: k,
+                    ..m
+                },
+                windows,
+            )
+        });
+        self.cue_local = match (&self.orientation, self.side_by_side) {
+            (Some(_), Some((space, _))) => Some(LocalMean::new(
+                v.width,
+                v.height,
+                v.pixels_per_degree,
+                cue_sd_deg(space),
+            )),
+            _ => None,
+        };
         self
     }
 
@@ -222,8 +269,14 @@ impl Filters {
     /// out = IFFT(w_S A + i w_T B), so out.re is a's sustained band and out.im b's transient
     /// band. A(k) = (Z(k) + conj Z(-k)) / 2 and B(k) = (Z(k) - conj Z(-k)) / 2i.
     fn band(&mut self, z: &[Complex32], b: usize, out: &mut [Complex32]) {
+        self.band_in(z, b, None, out);
+    }
+
+    /// As [`Filters::band`], restricted to orientation channel `o` ([`super::orientation`]).
+    fn band_in(&mut self, z: &[Complex32], b: usize, o: Option<usize>, out: &mut [Complex32]) {
         let (w, h) = (self.viewing.width, self.viewing.height);
         let [ws, wt] = &self.bands[b];
+        let orient = o.and_then(|o| self.orientation.as_ref().map(|(_, win)| &win[o]));
         for kx in 0..w {
             let mx = (w - kx) % w;
             for ky in 0..h {
@@ -231,7 +284,8 @@ impl Filters {
                 let m = z[mx * h + (h - ky) % h].conj();
                 let a = (z[i] + m) * 0.5;
                 let bb = (z[i] - m) * Complex32::new(0.0, -0.5);
-                out[i] = a * ws[i] + Complex32::new(0.0, 1.0) * bb * wt[i];
+                let g = orient.map_or(1.0, |win| win[i]);
+                out[i] = (a * ws[i] + Complex32::new(0.0, 1.0) * bb * wt[i]) * g;
             }
         }
         self.fft.inverse(out);
@@ -298,10 +352,53 @@ pub fn frame_differences(
         ..pooling.clone()
     };
     let mut out = Vec::with_capacity(v.frames);
+    let read = filters.cue_local.is_some();
     frame_sums(filters, load, |_, sums| {
-        out.push(sums.frame_q(&grid, v.pixels_per_degree, v.width, placement))
+        out.push(if read {
+            read_at_aperture(sums, &grid, v, placement)
+        } else {
+            sums.frame_q(&grid, v.pixels_per_degree, v.width, placement)
+        })
     })?;
     Ok(out)
+}
+
+/// The sd (deg) of the oriented side-by-side stage's cue neighbourhood: the fitted aperture's
+/// weight on D^beta, exp(-beta r^2 / (2 s^2)), a Gaussian of sd s / sqrt(beta).
+fn cue_sd_deg(space: f64) -> f64 {
+    super::pooling::FITTED.aperture_deg / space.sqrt()
+}
+
+/// Q_t of the oriented side-by-side stage: its cue D is already a local amplitude over the
+/// aperture's own window (normalised to sum 1), so Q^beta = 2 pi (s^2 / beta) D^beta read at
+/// one place, the aperture's: the centre, or the most visible place. Against a blank field
+/// below the knee that is the difference stage's aperture-weighted sum exactly (one channel;
+/// several mix through beta_c as they do at a pixel). An infinite aperture sums D^beta over
+/// the frame instead.
+fn read_at_aperture(sums: &ChannelSums, grid: &Grid, v: Viewing, placement: Placement) -> Vec<f64> {
+    let bc = sums.exponents[0];
+    let sum = &sums.sums[0];
+    let mut out = Vec::new();
+    for p in grid.space_pairs(bc) {
+        let r = (p.space / bc) as f32;
+        let d: Vec<f64> = sum.iter().map(|&x| x.max(0.0).powf(r) as f64).collect();
+        let q_beta = if !p.aperture_deg.is_finite() {
+            d.iter().sum::<f64>() / v.pixels_per_degree.powi(2)
+        } else {
+            let read = match placement {
+                Placement::MostVisible => d.iter().cloned().fold(0.0, f64::max),
+                Placement::Centre => {
+                    let (w, h) = (v.width, v.height);
+                    let (x0, y0) = ((w - 1) / 2, (h - 1) / 2);
+                    let (x1, y1) = (w / 2, h / 2);
+                    0.25 * (d[y0 * w + x0] + d[y0 * w + x1] + d[y1 * w + x0] + d[y1 * w + x1])
+                }
+            };
+            2.0 * std::f64::consts::PI * p.aperture_deg.powi(2) / p.space * read
+        };
+        out.push(q_beta.powf(1.0 / p.space));
+    }
+    out
 }
 
 /// The pipeline up to the pooling over space: `each(t, sums)` receives frame t's per-pixel
@@ -380,7 +477,12 @@ pub fn frame_sums(
             filters.band(&e_pack, b, &mut e_band);
             filters.band(&c_pack, b, &mut c_band);
             if let Some((space, a0)) = filters.side_by_side {
-                add_videos(filters, &mut own, &e_band, &c_band, space, a0);
+                if filters.orientation.is_some() {
+                    let bufs = (&mut e_band[..], &mut c_band[..]);
+                    add_oriented(filters, &mut sums, (&e_pack, &c_pack), b, bufs, (space, a0));
+                } else {
+                    add_videos(filters, &mut own, &e_band, &c_band, space, a0);
+                }
                 continue;
             }
             for (((s, t), e), c) in sustained
@@ -394,7 +496,7 @@ pub fn frame_sums(
             }
             sums.add(&sustained, &transient);
         }
-        if let Some((space, _)) = filters.side_by_side {
+        if let (Some((space, _)), None) = (filters.side_by_side, &filters.orientation) {
             side_by_side(filters, &own, space, &mut sums);
         }
         each(t as usize, &sums);
@@ -442,6 +544,91 @@ fn add_videos(
         let masked: Vec<f32> = n.iter().zip(&gain).map(|(n, g)| n * g).collect();
         sums.add(&masked, &zero);
     }
+}
+
+/// One band of each video split into orientation channels ([`super::orientation`]), compared
+/// channel by channel: each channel's signal n_V,o is masked by its own local energy and,
+/// weighted by w, the mean of the other channels' (m_o^beta = G * (E_o + w mean_{o' != o}
+/// E_o'), E the two videos' mean energy n^beta), each video's local amplitude of it taken,
+/// a_V,o = (G * (g_o n_V,o)^beta)^(1/beta), and |a_T,o - a_R,o| added to `sums` as one more
+/// channel of the Minkowski sum over bands and channels. Comparing per channel, not the
+/// videos' summed amplitudes, is what keeps energy in one channel from masking another
+/// (summed, a mask adds in quadrature to the target's channel: Meese's orthogonal mask then
+/// masks as a parallel one would). `packs` are the spectra of the difference and the
+/// reference, `bufs` scratch for their band images.
+fn add_oriented(
+    filters: &mut Filters,
+    sums: &mut ChannelSums,
+    packs: (&[Complex32], &[Complex32]),
+    b: usize,
+    bufs: (&mut [Complex32], &mut [Complex32]),
+    (space, a0): (f64, f32),
+) {
+    let (e_band, c_band) = bufs;
+    let (m, _) = filters.orientation.clone().expect("oriented filters");
+    let k = m.orientations;
+    let beta = space as f32;
+    let mut videos: Vec<[Vec<f32>; 2]> = Vec::with_capacity(k);
+    let mut means: Vec<Vec<f32>> = Vec::with_capacity(k);
+    for o in 0..k {
+        filters.band_in(packs.0, b, Some(o), e_band);
+        filters.band_in(packs.1, b, Some(o), c_band);
+        let (nt, nr): (Vec<f32>, Vec<f32>) = e_band
+            .iter()
+            .zip(c_band.iter())
+            .map(|(e, c)| {
+                (
+                    (e.re + c.re).abs() + (e.im + c.im).abs(),
+                    c.re.abs() + c.im.abs(),
+                )
+            })
+            .unzip();
+        let energy: Vec<f32> = nt
+            .iter()
+            .zip(&nr)
+            .map(|(t, r)| 0.5 * (t.powf(beta) + r.powf(beta)))
+            .collect();
+        let zero = vec![0.0; energy.len()];
+        means.push(local_of(filters, &energy, &zero).0);
+        videos.push([nt, nr]);
+    }
+    let w = m.cross_weight as f32;
+    let others = 1.0 / (k - 1) as f32;
+    let total: Vec<f32> = (0..means[0].len())
+        .map(|i| means.iter().map(|m| m[i]).sum())
+        .collect();
+    let zero = vec![0.0; total.len()];
+    let root = |v: f32| v.max(0.0).powf(1.0 / beta);
+    for (o, [nt, nr]) in videos.iter().enumerate() {
+        let gain: Vec<f32> = means[o]
+            .iter()
+            .zip(&total)
+            .map(|(&own_e, &all)| gain(root(own_e + w * (all - own_e) * others), a0))
+            .collect();
+        let masked = |n: &[f32]| -> Vec<f32> {
+            n.iter()
+                .zip(&gain)
+                .map(|(n, g)| (n * g).powf(beta))
+                .collect()
+        };
+        let cue = filters.cue_local.as_mut().expect("oriented filters");
+        let (at, ar) = cue.pair(&masked(nt), &masked(nr));
+        let cue: Vec<f32> = at
+            .iter()
+            .zip(&ar)
+            .map(|(t, r)| (root(*t) - root(*r)).abs())
+            .collect();
+        sums.add(&cue, &zero);
+    }
+}
+
+/// The side-by-side stage's local means of two images.
+fn local_of(filters: &mut Filters, a: &[f32], b: &[f32]) -> (Vec<f32>, Vec<f32>) {
+    filters
+        .local
+        .as_mut()
+        .expect("side-by-side filters")
+        .pair(a, b)
 }
 
 /// dR/da of [`super::transducer::respond`]: 1 up to the knee, (a / a0)^-eps above.
