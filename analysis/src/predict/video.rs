@@ -565,7 +565,12 @@ fn add_oriented(
     (space, a0): (f64, f32),
 ) {
     let (e_band, c_band) = bufs;
-    let (m, _) = filters.orientation.clone().expect("oriented filters");
+    // The settings only: cloning the whole field would copy every window (K full-size images).
+    let m = filters
+        .orientation
+        .as_ref()
+        .map(|(m, _)| *m)
+        .expect("oriented filters");
     let k = m.orientations;
     let beta = space as f32;
     let mut videos: Vec<[Vec<f32>; 2]> = Vec::with_capacity(k);
