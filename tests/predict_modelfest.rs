@@ -195,11 +195,30 @@ fn meese2007_validation_reports_every_stage() {
     );
 }
 
+/// Against a blank field the side-by-side stage reduces to detection: on ModelFest's largest
+/// Gaussian blob (stimulus 26, mostly below 1 c/deg) its Q is the difference stage's within
+/// 10%. Split by orientation below the lowest band, the blob spread over the frame and lost a
+/// third of Q (ratio 0.64).
+#[test]
+fn side_by_side_detects_the_large_gaussian_as_the_difference_stage_does() {
+    use analysis::predict::modelfest::response_by_frames_in;
+    use analysis::predict::video::Comparison;
+    let stimuli = load(&data()).unwrap();
+    let s = stimuli.iter().find(|s| s.number == 26).unwrap();
+    let d = response_by_frames_in(s, FITTED, shape::FITTED, &|f| f).unwrap();
+    let o = response_by_frames_in(s, FITTED, shape::FITTED, &|f| {
+        f.comparing(Comparison::SideBySide, FITTED.space)
+    })
+    .unwrap();
+    assert!((o / d - 1.0).abs() < 0.1, "ratio {}", o / d);
+}
+
 /// The side-by-side stage (orientation channels, docs/predict.md) on ModelFest's 43 stimuli at
 /// the difference stage's fitted k, pooling and CSF: prints each stimulus's error and the RMS
-/// (1.39 dB on 28 Nov 2026, against the difference stage's 0.95). About 2 CPU-minutes.
+/// (0.995 dB on 29 Nov 2026, against the difference stage's 0.95 and the standard observer's
+/// 1.13). About 3 CPU-minutes.
 #[test]
-#[ignore = "measurement (2 CPU-minutes): cargo test --test predict_modelfest oriented -- --ignored --nocapture"]
+#[ignore = "measurement (3 CPU-minutes): cargo test --test predict_modelfest oriented -- --ignored --nocapture"]
 fn oriented_side_by_side_on_modelfest() {
     use analysis::predict::modelfest::response_by_frames_in;
     use analysis::predict::video::Comparison;
@@ -236,11 +255,11 @@ fn oriented_side_by_side_on_modelfest() {
         rms(1)
     );
     // One channel reads exactly the difference stage's Q; several mix through beta_c at the
-    // local amplitudes rather than at each pixel, which moved Q by 0.64-1.03 on 28 Nov (the
-    // broadband Gaussians most). Outside 0.5-1.1 something else changed.
+    // local amplitudes rather than at each pixel, which moved Q by 0.85-1.03 on 29 Nov (the
+    // Gaussians most). Outside 0.8-1.1 something else changed.
     for (s, r) in stimuli.iter().zip(&rows) {
         assert!(
-            r.2 > 0.5 && r.2 < 1.1,
+            r.2 > 0.8 && r.2 < 1.1,
             "{} {}: ratio {}",
             s.number,
             s.name,
