@@ -61,9 +61,16 @@ impl LocalMean {
         let (cw, ch) = (w / f, self.height / f);
         let mut z = vec![Complex32::default(); cw * ch];
         let inv = 1.0 / (f * f) as f32;
-        for (i, (&x, &y)) in a.iter().zip(b).enumerate() {
-            let (px, py) = (i % w, i / w);
-            z[(py / f) * cw + px / f] += Complex32::new(x * inv, y * inv);
+        for (py, (ra, rb)) in a.chunks_exact(w).zip(b.chunks_exact(w)).enumerate() {
+            let row = &mut z[(py / f) * cw..][..cw];
+            for ((zc, ba), bb) in row
+                .iter_mut()
+                .zip(ra.chunks_exact(f))
+                .zip(rb.chunks_exact(f))
+            {
+                let (x, y): (f32, f32) = (ba.iter().sum(), bb.iter().sum());
+                *zc += Complex32::new(x * inv, y * inv);
+            }
         }
         self.fft.forward(&mut z);
         for (z, g) in z.iter_mut().zip(&self.gain) {

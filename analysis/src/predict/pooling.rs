@@ -130,6 +130,15 @@ impl ChannelSums {
         self.add_scaled(sustained, transient, 1.0, 1.0);
     }
 
+    /// Add one channel's output alone (a channel with no transient partner).
+    pub fn add_one(&mut self, channel: &[f32]) {
+        for (e, sum) in self.exponents.iter().zip(self.sums.iter_mut()) {
+            for (acc, &a) in sum.iter_mut().zip(channel) {
+                *acc += power(a, *e);
+            }
+        }
+    }
+
     /// Add one band's two channel outputs, each times its factor.
     pub fn add_scaled(&mut self, sustained: &[f32], transient: &[f32], fs: f32, ft: f32) {
         for (e, sum) in self.exponents.iter().zip(self.sums.iter_mut()) {

@@ -571,60 +571,97 @@ fn add_oriented(
         .as_ref()
         .map(|(m, _)| *m)
         .expect("oriented filters");
-    let k = m.orientations;
     let beta = space as f32;
-    let mut videos: Vec<[Vec<f32>; 2]> = Vec::with_capacity(k);
-    let mut means: Vec<Vec<f32>> = Vec::with_capacity(k);
-    for o in 0..k {
-        filters.band_in(packs.0, b, Some(o), e_band);
-        filters.band_in(packs.1, b, Some(o), c_band);
-        let (nt, nr): (Vec<f32>, Vec<f32>) = e_band
-            .iter()
-            .zip(c_band.iter())
-            .map(|(e, c)| {
-                (
-                    (e.re + c.re).abs() + (e.im + c.im).abs(),
-                    c.re.abs() + c.im.abs(),
-                )
-            })
-            .unzip();
-        let energy: Vec<f32> = nt
-            .iter()
-            .zip(&nr)
-            .map(|(t, r)| 0.5 * (t.powf(beta) + r.powf(beta)))
-            .collect();
-        let zero = vec![0.0; energy.len()];
-        means.push(local_of(filters, &energy, &zero).0);
-        videos.push([nt, nr]);
-    }
-    let w = m.cross_weight as f32;
-    let others = 1.0 / (k - 1) as f32;
-    let total: Vec<f32> = (0..means[0].len())
-        .map(|i| means.iter().map(|m| m[i]).sum())
+    let powers: Vec<[Vec<f32>; 2]> = (0..m.orientations)
+        .map(|o| {
+            filters.band_in(packs.0, b, Some(o), e_band);
+            filters.band_in(packs.1, b, Some(o), c_band);
+            band_powers(e_band, c_band, beta)
+        })
         .collect();
-    let zero = vec![0.0; total.len()];
-    let root = |v: f32| v.max(0.0).powf(1.0 / beta);
-    for (o, [nt, nr]) in videos.iter().enumerate() {
-        let gain: Vec<f32> = means[o]
+    let maskers = maskers(filters, &powers, m.cross_weight as f32);
+    // g^beta = (m / a0)^(-eps beta) = (m^beta / a0^beta)^-eps above the knee, 1 below: the
+    // gain raised to beta from m^beta directly, one power instead of a root and two powers.
+    let knee = a0.powf(beta);
+    let inv = 1.0 / beta;
+    let cue_local = filters.cue_local.as_mut().expect("oriented filters");
+    for ([nt, nr], masker) in powers.iter().zip(&maskers) {
+        let g: Vec<f32> = masker
             .iter()
-            .zip(&total)
-            .map(|(&own_e, &all)| gain(root(own_e + w * (all - own_e) * others), a0))
+            .map(|&e| {
+                if e <= knee {
+                    1.0
+                } else {
+                    (e / knee).powf(-EPSILON)
+                }
+            })
             .collect();
-        let masked = |n: &[f32]| -> Vec<f32> {
-            n.iter()
-                .zip(&gain)
-                .map(|(n, g)| (n * g).powf(beta))
-                .collect()
-        };
-        let cue = filters.cue_local.as_mut().expect("oriented filters");
-        let (at, ar) = cue.pair(&masked(nt), &masked(nr));
+        let masked = |n: &[f32]| -> Vec<f32> { n.iter().zip(&g).map(|(n, g)| n * g).collect() };
+        let (at, ar) = cue_local.pair(&masked(nt), &masked(nr));
         let cue: Vec<f32> = at
             .iter()
             .zip(&ar)
-            .map(|(t, r)| (root(*t) - root(*r)).abs())
+            .map(|(&t, &r)| (root(t, inv) - root(r, inv)).abs())
             .collect();
-        sums.add(&cue, &zero);
+        sums.add_one(&cue);
     }
+}
+
+/// v^(1 / beta) of a local mean, which can leave -1e-9 where the energy is 0 (clamped), and
+/// 0 without a power where it is 0.
+fn root(v: f32, inv: f32) -> f32 {
+    if v > 0.0 { v.powf(inv) } else { 0.0 }
+}
+
+/// Each video's band norm raised to beta, n_T^beta and n_R^beta, from one channel's band
+/// images of the difference (e) and the reference (c): the test video is e + c.
+fn band_powers(e_band: &[Complex32], c_band: &[Complex32], beta: f32) -> [Vec<f32>; 2] {
+    let pow = |v: f32| if v > 0.0 { v.powf(beta) } else { 0.0 };
+    e_band
+        .iter()
+        .zip(c_band)
+        .map(|(e, c)| {
+            (
+                pow((e.re + c.re).abs() + (e.im + c.im).abs()),
+                pow(c.re.abs() + c.im.abs()),
+            )
+        })
+        .unzip::<_, _, Vec<f32>, Vec<f32>>()
+        .into()
+}
+
+/// Each channel's masker m_o^beta = G * (E_o + w mean_{o' != o} E_o'), with E the two videos'
+/// mean energy (n_T^beta + n_R^beta) / 2; the local means two channels to a transform pair.
+fn maskers(filters: &mut Filters, powers: &[[Vec<f32>; 2]], w: f32) -> Vec<Vec<f32>> {
+    let energy = |[t, r]: &[Vec<f32>; 2]| -> Vec<f32> {
+        t.iter().zip(r).map(|(t, r)| 0.5 * (t + r)).collect()
+    };
+    let mut means = Vec::with_capacity(powers.len());
+    for two in powers.chunks(2) {
+        let a = energy(&two[0]);
+        let b = two.get(1).map_or_else(|| vec![0.0; a.len()], energy);
+        let (ma, mb) = local_of(filters, &a, &b);
+        means.push(ma);
+        if two.len() == 2 {
+            means.push(mb);
+        }
+    }
+    if w == 0.0 {
+        return means;
+    }
+    let others = w / (means.len() - 1) as f32;
+    let total: Vec<f32> = (0..means[0].len())
+        .map(|i| means.iter().map(|m| m[i]).sum())
+        .collect();
+    means
+        .iter()
+        .map(|own| {
+            own.iter()
+                .zip(&total)
+                .map(|(&e, &all)| e + others * (all - e))
+                .collect()
+        })
+        .collect()
 }
 
 /// The side-by-side stage's local means of two images.
