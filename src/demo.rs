@@ -111,8 +111,8 @@ pub fn run(args: &DemoOptions, progress: DemoProgress) -> Result<DemoOutput> {
         &analysis::predict::options::PredictOptions {
             design: Some(root.join(DESIGN)),
             out: Some(out.join("predict")),
-            // decision None: the stage the demo design's layout gets (difference until the
-            // side-by-side stage is validated: analysis::predict::stage).
+            // decision None: the stage the demo design's layout gets (sequential: the
+            // side-by-side stage, analysis::predict::stage).
             ..analysis::predict::options::PredictOptions::new(stimuli.clone())
         },
         progress.predict,

@@ -58,17 +58,20 @@ fn demo_writes_the_report_and_reuses_its_stimuli() {
         );
     }
     assert!(!summary.to_lowercase().contains("nan"), "{summary}");
-    // The prediction from the stimuli: every condition's predicted proportion correct falls
-    // (or stays) as spp rises wherever it is not saturated, and the summary shows it beside
-    // the recovered JNDs. (Saturated, p > 0.999: with the Minkowski pooling fitted to ModelFest
-    // (issue 25) the 96-px spheres' Hammersley error pools higher at 27 spp than at 8, both at
-    // p = 1 - 1e-9; nothing a JND can see.)
+    // The prediction from the stimuli (the side-by-side stage, the design's layout being
+    // sequential): every condition's predicted proportion correct falls (or stays) as spp
+    // rises, with one known exception. The 96-px spheres' p rises from 8 spp to 27 for all
+    // three point sets (29 Nov: 0.61-0.63 -> 0.68-0.72), where the difference stage's d' falls
+    // for stratified and rises 13-18% for the other two: the stage's masking by the noise's
+    // own local energy, strongest at 8 spp, outweighs the stimuli's small change in visible
+    // error (docs/predict.md, "What the model can and cannot know"). Any other rise fails.
     assert!(results.join("predict/predicted.csv").is_file());
     assert!(!first.prediction.conditions.is_empty());
     for c in &first.prediction.conditions {
+        let known = |from: u32, to: u32| c.condition.scene == "spheres" && (from, to) == (8, 27);
         for w in c.points.windows(2) {
             assert!(
-                w[1].2 <= w[0].2 || w[0].2 > 0.999,
+                w[1].2 <= w[0].2 || known(w[0].0, w[1].0),
                 "{:?}: predicted p rises from {} spp ({}) to {} spp ({})",
                 c.condition,
                 w[0].0,

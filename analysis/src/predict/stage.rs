@@ -6,12 +6,11 @@
 //! layout, none in the suite yet) can be subtracted ([`Comparison::Difference`]). `--decision`
 //! overrides the layout.
 //!
-//! Until the side-by-side stage meets its ModelFest bound, the layouts that call for it run
-//! `difference` and say so: against a blank field it is at 1.39 dB on ModelFest (the bound is
-//! 1.13; `difference` 0.95), though it fits Meese et al.'s cross-orientation masking better
-//! (4.55 dB against 6.83) and puts the thesis's frame 93 within 1.1-1.9x of the thesis's JNDs
-//! where `difference` is 3-9x off (`docs/predict.md`, `docs/replication.md` section 4).
-//! `--decision side-by-side` runs it (issue 40 stays open for it).
+//! The side-by-side stage reduces to detection against a blank field (ModelFest 0.995 dB with
+//! the difference stage's fit, under the standard observer's 1.13), fits Meese et al.'s
+//! cross-orientation masking better (4.03 dB against 6.83) and puts the thesis's frame 93
+//! within 1.0-1.9x of the thesis's JNDs where `difference` is 3-9x off (`docs/predict.md`,
+//! `docs/replication.md` section 4, BENCHMARKS.md).
 
 use super::video::Comparison;
 use experiment::design::Layout;
@@ -35,12 +34,11 @@ impl Stage {
             None => "no design: the thesis's trials, each pair's two videos side by side",
         };
         Self {
-            comparison: Comparison::Difference,
+            comparison: Comparison::SideBySide,
             reason: format!(
-                "{reason}, which calls for the side-by-side stage; that stage is not validated \
-                 yet (ModelFest 1.39 dB against the 1.13 dB bound, docs/predict.md), so the \
-                 difference stage fitted to ModelFest runs (--decision side-by-side runs the \
-                 new one)"
+                "{reason}: the observer cannot subtract one video from the other place by \
+                 place, so it compares how noisy each looks (the side-by-side stage, \
+                 docs/predict.md; --decision difference runs the subtracting one)"
             ),
         }
     }
@@ -67,13 +65,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn side_by_side_layouts_run_difference_until_the_new_stage_is_validated() {
+    fn side_by_side_layouts_run_the_side_by_side_stage() {
         for l in [Some(Layout::Sequential), Some(Layout::Grid), None] {
             let s = Stage::for_layout(l);
-            assert_eq!(s.comparison, Comparison::Difference, "{l:?}");
+            assert_eq!(s.comparison, Comparison::SideBySide, "{l:?}");
             assert!(s.reason.contains("side by side"), "{}", s.reason);
-            assert!(s.reason.contains("not validated"), "{}", s.reason);
+            assert_eq!(s.name(), "side-by-side");
         }
         assert_eq!(Stage::given(Comparison::Difference).name(), "difference");
+        assert!(
+            Stage::given(Comparison::Difference)
+                .reason
+                .contains("--decision")
+        );
     }
 }
