@@ -360,16 +360,29 @@ pub fn threshold(points: &[(u32, f64)]) -> Threshold {
     if p(last.1) > TARGET {
         return Threshold::AboveRange { bound: last.0 };
     }
+    // The first rendered segment that crosses p = 0.75. Near the model's noise floor a curve
+    // can rise again after it (a 2197-spp reference: p 0.519 at 343 spp, 0.524 at 512), and a
+    // search over all spp, extrapolating past the last level, would find no crossing.
+    let Some(i) = (1..points.len()).find(|&i| p(points[i].1) <= TARGET) else {
+        return Threshold::Value {
+            spp: first.0 as f64,
+        };
+    };
     let curve = Curve {
         points: points.iter().map(|&(s, d)| (s as f64, d)).collect(),
     };
-    match curve.spp_at(TARGET) {
-        Some(spp) => Threshold::Value {
-            spp: spp.clamp(first.0 as f64, last.0 as f64),
-        },
-        None => Threshold::Undefined {
-            reason: "the predicted curve does not cross 0.75".into(),
-        },
+    // Along one segment d' is a power of spp: one crossing, found by bisection in ln spp.
+    let (mut lo, mut hi) = ((points[i - 1].0 as f64).ln(), (points[i].0 as f64).ln());
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if curve.p_correct_at(mid.exp()) > TARGET {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Threshold::Value {
+        spp: (0.5 * (lo + hi)).exp(),
     }
 }
 
@@ -469,5 +482,21 @@ mod tests {
         }
         assert_eq!(threshold(&pts[2..]), Threshold::BelowRange { bound: 27 });
         assert_eq!(threshold(&pts[..2]), Threshold::AboveRange { bound: 8 });
+    }
+
+    #[test]
+    fn a_curve_rising_again_past_its_crossing_keeps_the_crossing() {
+        // d' = 8 / sqrt(spp) up to 64, then rising again below the target (noise at the
+        // floor): still p = 0.75 at 14.46 spp, not "undefined".
+        let mut pts: Vec<(u32, f64)> = [1u32, 8, 27, 64]
+            .iter()
+            .map(|&s| (s, 8.0 / (s as f64).sqrt()))
+            .collect();
+        pts.push((125, 1.2));
+        assert!(two_pair_p_correct(1.2) < TARGET);
+        match threshold(&pts) {
+            Threshold::Value { spp } => assert!((spp - 14.463).abs() < 0.01, "{spp}"),
+            t => panic!("{t:?}"),
+        }
     }
 }
