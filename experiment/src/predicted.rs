@@ -135,7 +135,13 @@ impl Curve {
     /// The spp where the proportion correct falls to `target` (bisection in ln spp over
     /// [1e-6, 1e9] spp: d' falls with spp along every segment); `None` if it never does there.
     pub fn spp_at(&self, target: f64) -> Option<f64> {
-        let (mut lo, mut hi) = (1e-6f64.ln(), 1e9f64.ln());
+        self.spp_between(target, 1e-6, 1e9)
+    }
+
+    /// As [`Curve::spp_at`], searching between `from` and `to` spp only (one segment between
+    /// two rendered levels: no extrapolation).
+    pub fn spp_between(&self, target: f64, from: f64, to: f64) -> Option<f64> {
+        let (mut lo, mut hi) = (from.ln(), to.ln());
         let f = |x: f64| self.p_correct_at(x.exp()) - target;
         if f(lo) < 0.0 || f(hi) > 0.0 {
             return None;

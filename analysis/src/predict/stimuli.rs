@@ -217,7 +217,8 @@ pub fn predict(
     })
 }
 
-/// The filters of the last viewing a worker predicted.
+/// The filters of the last viewing a worker predicted (one stage per run, so the viewing is
+/// the key).
 #[derive(Default)]
 struct FilterCache(Option<(Viewing, Filters)>);
 
@@ -371,18 +372,12 @@ pub fn threshold(points: &[(u32, f64)]) -> Threshold {
     let curve = Curve {
         points: points.iter().map(|&(s, d)| (s as f64, d)).collect(),
     };
-    // Along one segment d' is a power of spp: one crossing, found by bisection in ln spp.
-    let (mut lo, mut hi) = ((points[i - 1].0 as f64).ln(), (points[i].0 as f64).ln());
-    for _ in 0..100 {
-        let mid = 0.5 * (lo + hi);
-        if curve.p_correct_at(mid.exp()) > TARGET {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Threshold::Value {
-        spp: (0.5 * (lo + hi)).exp(),
+    // Along one segment d' is a power of spp: one crossing.
+    match curve.spp_between(TARGET, points[i - 1].0 as f64, points[i].0 as f64) {
+        Some(spp) => Threshold::Value { spp },
+        None => Threshold::Undefined {
+            reason: "the predicted curve does not cross 0.75".into(),
+        },
     }
 }
 

@@ -581,21 +581,13 @@ fn add_oriented(
         .collect();
     let maskers = maskers(filters, &powers, m.cross_weight as f32);
     // g^beta = (m / a0)^(-eps beta) = (m^beta / a0^beta)^-eps above the knee, 1 below: the
-    // gain raised to beta from m^beta directly, one power instead of a root and two powers.
+    // gain raised to beta is the gain of m^beta at the knee a0^beta, one power instead of a
+    // root and two powers.
     let knee = a0.powf(beta);
     let inv = 1.0 / beta;
     let cue_local = filters.cue_local.as_mut().expect("oriented filters");
     for ([nt, nr], masker) in powers.iter().zip(&maskers) {
-        let g: Vec<f32> = masker
-            .iter()
-            .map(|&e| {
-                if e <= knee {
-                    1.0
-                } else {
-                    (e / knee).powf(-EPSILON)
-                }
-            })
-            .collect();
+        let g: Vec<f32> = masker.iter().map(|&e| gain(e, knee)).collect();
         let masked = |n: &[f32]| -> Vec<f32> { n.iter().zip(&g).map(|(n, g)| n * g).collect() };
         let (at, ar) = cue_local.pair(&masked(nt), &masked(nr));
         let cue: Vec<f32> = at
