@@ -12,41 +12,18 @@
 
 use experiment::fixture::{Study, StudySpec, write_study};
 
+#[path = "support/browser.rs"]
+mod browser;
 #[cfg(feature = "gui")]
 #[path = "support/lab.rs"]
 mod lab;
-use experiment::web::{Config, Server};
-use fantoccini::actions::{InputSource, KeyAction, KeyActions};
-use fantoccini::{Client, ClientBuilder};
+#[path = "support/web_thesis.rs"]
+mod web_thesis;
+use browser::*;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
-
-const CHROMIUM: &str = "/usr/bin/chromium";
-const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
-const REQUIRE: &str = "BLURLAB_REQUIRE_BROWSER_TESTS";
-/// Longest a session (or a part of one) may take before the test fails.
-const SESSION_TIMEOUT: Duration = Duration::from_secs(60);
-
-/// The card the tests "hold" to the screen: this many device pixels per millimetre at scale 1.
-const PX_PER_MM_AT_1: f64 = 3.0;
-/// Where the tests "see" the dot vanish: this many millimetres from the cross.
-const BLIND_SPOT_MM: f64 = 80.0;
-
-/// Whether the browser is installed; panics when it must be and is not.
-fn browser_available() -> bool {
-    let present = Path::new(CHROMIUM).exists() && Path::new(CHROMEDRIVER).exists();
-    if !present {
-        assert!(
-            std::env::var(REQUIRE).as_deref() != Ok("1"),
-            "{REQUIRE}=1 but {CHROMIUM} or {CHROMEDRIVER} is missing: install Debian's chromium \
-             and chromium-driver (.ci/run does)"
-        );
-        eprintln!("skipped: {CHROMIUM} or {CHROMEDRIVER} missing (set {REQUIRE}=1 to fail)");
-    }
-    present
-}
 
 /// A small demo-like study: 24x16 px videos of 6 frames, short fixation and gap.
 fn study(root: &Path, procedure: Option<Value>) -> Study {
@@ -62,220 +39,6 @@ fn study(root: &Path, procedure: Option<Value>) -> Study {
         spec.reference_spp = 64;
     }
     write_study(root, &spec).expect("the fixture study renders")
-}
-
-/// `blurlab serve` in this process: the subject links and a sender that stops it.
-struct Served {
-    links: Vec<String>,
-    stop: Option<tokio::sync::oneshot::Sender<()>>,
-    task: tokio::task::JoinHandle<anyhow::Result<()>>,
-    sessions: PathBuf,
-}
-
-async fn serve(design: &Path, out: &Path, subjects: u32) -> Served {
-    let config = Config {
-        design: design.to_path_buf(),
-        out: out.to_path_buf(),
-        addr: "127.0.0.1:0".parse().unwrap(),
-        enrol: Some(subjects),
-        open_enrolment: None,
-        base_url: None,
-    };
-    let server = Server::bind(&config).await.expect("the server starts");
-    let csv = std::fs::read_to_string(server.started.links_csv.as_ref().expect("links.csv"))
-        .expect("links.csv reads");
-    let links: Vec<String> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').nth(1).expect("subject,url").trim().to_string())
-        .collect();
-    let sessions = server.started.sessions_dir.clone();
-    let (tx, rx) = tokio::sync::oneshot::channel::<()>();
-    let task = tokio::spawn(server.run(async {
-        let _ = rx.await;
-    }));
-    Served {
-        links,
-        stop: Some(tx),
-        task,
-        sessions,
-    }
-}
-
-impl Served {
-    async fn shutdown(mut self) {
-        if let Some(tx) = self.stop.take() {
-            let _ = tx.send(());
-        }
-        let _ = tokio::time::timeout(Duration::from_secs(5), self.task).await;
-    }
-}
-
-/// chromedriver and one headless Chromium session.
-struct Browser {
-    driver: Child,
-    client: Client,
-    _profile: tempfile::TempDir,
-}
-
-impl Browser {
-    async fn start(scale: f64) -> Browser {
-        let port = std::net::TcpListener::bind("127.0.0.1:0")
-            .and_then(|l| l.local_addr())
-            .expect("a free port")
-            .port();
-        let driver = Command::new(CHROMEDRIVER)
-            .arg(format!("--port={port}"))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("chromedriver starts");
-        let profile = tempfile::tempdir().unwrap();
-        let args = vec![
-            "--headless".to_string(),
-            "--no-sandbox".into(),
-            "--disable-gpu".into(),
-            "--disable-quic".into(),
-            "--no-first-run".into(),
-            "--disable-background-networking".into(),
-            "--disable-component-update".into(),
-            "--disable-sync".into(),
-            "--force-color-profile=srgb".into(),
-            format!("--user-data-dir={}", profile.path().display()),
-            "--window-size=1000,700".into(),
-            format!("--force-device-scale-factor={scale}"),
-        ];
-        let caps = json!({
-            "browserName": "chrome",
-            "goog:chromeOptions": {"binary": CHROMIUM, "args": args},
-        });
-        let caps: fantoccini::wd::Capabilities = caps.as_object().unwrap().clone();
-        let url = format!("http://127.0.0.1:{port}");
-        let t0 = Instant::now();
-        let client = loop {
-            let connector = hyper_util::client::legacy::connect::HttpConnector::new();
-            match ClientBuilder::new(connector)
-                .capabilities(caps.clone())
-                .connect(&url)
-                .await
-            {
-                Ok(c) => break c,
-                Err(e) if t0.elapsed() < Duration::from_secs(15) => {
-                    let _ = e;
-                    tokio::time::sleep(Duration::from_millis(100)).await;
-                }
-                Err(e) => panic!("no WebDriver session from {CHROMEDRIVER}: {e}"),
-            }
-        };
-        Browser {
-            driver,
-            client,
-            _profile: profile,
-        }
-    }
-
-    async fn close(mut self) {
-        let _ = self.client.close().await;
-        let _ = self.driver.kill();
-        let _ = self.driver.wait();
-    }
-
-    async fn js(&self, script: &str) -> Value {
-        self.client
-            .execute(script, vec![])
-            .await
-            .unwrap_or_else(|e| panic!("script {script}: {e}"))
-    }
-
-    async fn key(&self, key: char) {
-        let keys = KeyActions::new("keys".into())
-            .then(KeyAction::Down { value: key })
-            .then(KeyAction::Up { value: key });
-        self.client.perform_actions(keys).await.expect("key press");
-    }
-
-    /// The page's screen name, sequence number and test-visible data.
-    async fn screen(&self) -> (String, u64, Value) {
-        let v = self
-            .js(
-                "const d = document.body.dataset; return [d.screen, Number(d.seq), \
-                 {cardPx: Number(d.cardPx || 0), dotPx: Number(d.dotPx || 0), trial: d.trial || '', \
-                  title: document.getElementById('title').textContent, \
-                  text: document.getElementById('text').textContent}]",
-            )
-            .await;
-        (
-            v[0].as_str().unwrap_or("").to_string(),
-            v[1].as_u64().unwrap_or(0),
-            v[2].clone(),
-        )
-    }
-}
-
-/// What the driver does at a respond screen: the answer to press (or None to stop there).
-type OnRespond<'a> = &'a mut dyn FnMut(&str) -> Option<char>;
-
-/// Drive the page as a subject would until the end screen (or until `on_respond` says stop):
-/// Space through the text screens, the card matched to `PX_PER_MM_AT_1` x scale, the blind spot
-/// at `BLIND_SPOT_MM`. Returns the last screen's name.
-async fn drive(b: &Browser, scale: f64, on_respond: OnRespond<'_>) -> String {
-    let t0 = Instant::now();
-    let mut seen = 0;
-    let card_target = (PX_PER_MM_AT_1 * scale * 85.6).round();
-    loop {
-        assert!(
-            t0.elapsed() < SESSION_TIMEOUT,
-            "the session took over {SESSION_TIMEOUT:?}"
-        );
-        let (screen, seq, data) = b.screen().await;
-        if seq == seen && screen != "blindspot" {
-            tokio::time::sleep(Duration::from_millis(10)).await;
-            continue;
-        }
-        let fresh = seq != seen;
-        seen = seq;
-        match screen.as_str() {
-            "welcome" => {
-                b.js("window.blurlab.config.dotSpeedMmPerS = 200").await;
-                b.key(' ').await;
-            }
-            "card-intro" | "blindspot-intro" | "blindspot-retry" | "instructions" | "break" => {
-                b.key(' ').await
-            }
-            "card" => {
-                let now = data["cardPx"].as_f64().unwrap();
-                let (key, n) = if card_target > now {
-                    ('\u{E014}', card_target - now) // ArrowRight
-                } else {
-                    ('\u{E012}', now - card_target) // ArrowLeft
-                };
-                for _ in 0..n as u32 {
-                    b.key(key).await;
-                }
-                b.key('\u{E007}').await; // Enter
-            }
-            "blindspot" => {
-                let px_per_mm = PX_PER_MM_AT_1 * scale;
-                if data["dotPx"].as_f64().unwrap() >= BLIND_SPOT_MM * px_per_mm {
-                    b.key(' ').await;
-                } else {
-                    tokio::time::sleep(Duration::from_millis(2)).await;
-                }
-            }
-            "respond" if fresh => match on_respond(data["trial"].as_str().unwrap()) {
-                Some(k) => b.key(k).await,
-                None => return screen,
-            },
-            "done" => return screen,
-            "elsewhere" | "error" | "too-small" | "unsupported" => {
-                panic!(
-                    "the page stopped: {screen}: {} {}",
-                    data["title"], data["text"]
-                )
-            }
-            _ => {}
-        }
-    }
 }
 
 /// The log's lines as JSON.
@@ -487,23 +250,6 @@ async fn browser_session_quest_plus_analyzes() {
     whole_session(Some(json!({"quest_plus": {"trials": 3}}))).await;
 }
 
-/// Find the stimulus file whose bytes are `png` (the server sends the files unchanged).
-fn stimulus_with_bytes(dir: &Path, png: &[u8]) -> Option<PathBuf> {
-    for entry in std::fs::read_dir(dir).ok()? {
-        let path = entry.ok()?.path();
-        if path.is_dir() {
-            if let Some(p) = stimulus_with_bytes(&path, png) {
-                return Some(p);
-            }
-        } else if path.extension().is_some_and(|e| e == "png")
-            && std::fs::read(&path).ok()?.as_slice() == png
-        {
-            return Some(path);
-        }
-    }
-    None
-}
-
 async fn canvas_matches_stimulus(scale: f64) {
     if !browser_available() {
         return;
@@ -515,79 +261,9 @@ async fn canvas_matches_stimulus(scale: f64) {
     b.client.goto(&served.links[0]).await.unwrap();
     let last = drive(&b, scale, &mut |_| None).await;
     assert_eq!(last, "respond");
+    let manifest = study.stimuli_dir.join("manifest.json");
     for (pair, frame) in [(1, 0), (2, 5), (1, 3)] {
-        let held = b
-            .js(&format!("return window.blurlab.hold({pair}, {frame})"))
-            .await;
-        let dpr = held["dpr"].as_f64().unwrap();
-        assert_eq!(dpr, scale);
-        // The canvas is the window in device pixels, its CSS box device px / dpr.
-        let canvas = [
-            held["canvas"][0].as_f64().unwrap(),
-            held["canvas"][1].as_f64().unwrap(),
-        ];
-        let css = [
-            held["css"][0].as_f64().unwrap(),
-            held["css"][1].as_f64().unwrap(),
-        ];
-        assert_eq!([canvas[0] / scale, canvas[1] / scale], css, "{held}");
-        for side in 0..2 {
-            let r = &held["rects"][side];
-            let (x, y, w, h) = (
-                r["x"].as_u64().unwrap(),
-                r["y"].as_u64().unwrap(),
-                r["w"].as_u64().unwrap(),
-                r["h"].as_u64().unwrap(),
-            );
-            let pixels = b
-                .js(&format!(
-                    "const c = document.getElementById('stage').getContext('2d'); \
-                     return Array.from(c.getImageData({x}, {y}, {w}, {h}).data)"
-                ))
-                .await;
-            let pixels: Vec<u8> = pixels
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_u64().unwrap() as u8)
-                .collect();
-            let url = held["urls"][side].as_str().unwrap();
-            let png = b
-                .client
-                .execute_async(
-                    "const done = arguments[arguments.length - 1]; \
-                     fetch(arguments[0]).then(r => r.arrayBuffer()) \
-                       .then(a => done(Array.from(new Uint8Array(a))))",
-                    vec![json!(url)],
-                )
-                .await
-                .unwrap();
-            let png: Vec<u8> = png
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|v| v.as_u64().unwrap() as u8)
-                .collect();
-            let file = stimulus_with_bytes(&study.stimuli_dir, &png)
-                .expect("the frame served is a stimulus file, byte for byte");
-            let want = image::load_from_memory(&png).unwrap().to_rgba8();
-            assert_eq!((want.width() as u64, want.height() as u64), (w, h));
-            let mut differ = 0;
-            for (i, (got, want)) in pixels.chunks(4).zip(want.pixels()).enumerate() {
-                if got != want.0.as_slice() {
-                    differ += 1;
-                    if differ == 1 {
-                        eprintln!("pixel {i}: canvas {got:?}, {} {:?}", file.display(), want.0);
-                    }
-                }
-            }
-            assert_eq!(
-                differ,
-                0,
-                "{differ} of {} pixels differ at scale {scale}",
-                w * h
-            );
-        }
+        held_frame_is_a_stimulus(&b, scale, &manifest, pair, frame).await;
     }
     b.close().await;
     served.shutdown().await;

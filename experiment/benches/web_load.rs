@@ -1,6 +1,6 @@
-//! Load benchmark of `blurlab serve` (issue 39): simulated subjects (the simulated observer,
-//! answering over HTTP with a think time and fetching every frame of every trial) against one
-//! server process; optionally `kill -9` of the server K times during the load, each time
+//! Load benchmark of `blurlab serve` (issues 39, 48): simulated subjects (the simulated
+//! observer, answering over HTTP with a think time, fetching each video they are shown once,
+//! ahead of the trial that shows it) against one server process; optionally `kill -9` of the server K times during the load, each time
 //! restarted. Then every log is checked: each acknowledged answer is in it exactly once, no
 //! trial is logged twice, and every session is finished.
 //!
@@ -76,6 +76,19 @@ fn spawn_server(a: &Args, addr: &str) -> Child {
         .expect("start the server binary (--server)")
 }
 
+/// User plus system CPU time of a process, in clock ticks (100 a second on Linux).
+fn cpu_ticks(pid: u32) -> u64 {
+    std::fs::read_to_string(format!("/proc/{pid}/stat"))
+        .ok()
+        .and_then(|s| {
+            // Fields after the command name (which may hold spaces) start at field 3.
+            let rest = s.rsplit_once(')')?.1;
+            let f: Vec<&str> = rest.split_whitespace().collect();
+            Some(f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?)
+        })
+        .unwrap_or(0)
+}
+
 fn rss_kib(pid: u32) -> u64 {
     std::fs::read_to_string(format!("/proc/{pid}/status"))
         .ok()
@@ -88,6 +101,7 @@ fn rss_kib(pid: u32) -> u64 {
 }
 
 async fn wait_up(http: &reqwest::Client, base: &str) {
+    // (A first start encodes the videos: run `blurlab serve --check` on the design before.)
     for _ in 0..400 {
         if http
             .get(format!("{base}/assets/style.css"))
@@ -141,15 +155,22 @@ fn main() {
     let done = Arc::new(AtomicBool::new(false));
     let max_rss = Arc::new(AtomicU64::new(0));
     let pid = Arc::new(AtomicU64::new(server.id() as u64));
-    // Memory sampler.
+    // Memory and CPU sampler (CPU summed over the server processes, across kills).
     let sampler = {
         let (done, max_rss, pid) = (done.clone(), max_rss.clone(), pid.clone());
         std::thread::spawn(move || {
+            let (mut seen_pid, mut ticks, mut before) = (0u32, 0u64, 0u64);
             while !done.load(Ordering::Relaxed) {
-                let r = rss_kib(pid.load(Ordering::Relaxed) as u32);
-                max_rss.fetch_max(r, Ordering::Relaxed);
+                let p = pid.load(Ordering::Relaxed) as u32;
+                if p != seen_pid {
+                    before += ticks;
+                    (seen_pid, ticks) = (p, 0);
+                }
+                ticks = ticks.max(cpu_ticks(p));
+                max_rss.fetch_max(rss_kib(p), Ordering::Relaxed);
                 std::thread::sleep(Duration::from_millis(100));
             }
+            before + ticks
         })
     };
     let start = Instant::now();
@@ -202,14 +223,14 @@ fn main() {
     });
     let elapsed = start.elapsed().as_secs_f64();
     done.store(true, Ordering::Relaxed);
-    sampler.join().unwrap();
+    let cpu_s = sampler.join().unwrap() as f64 / 100.0;
     let _ = server.kill();
     let _ = server.wait();
 
     // Every acknowledged answer in its log exactly once; every session finished.
     let (mut acked, mut lost, mut duplicated, mut unfinished, mut failed) = (0, 0, 0, 0, 0);
     let mut ack_ms = Vec::new();
-    let (mut bytes, mut frames, mut retries) = (0u64, 0u64, 0u64);
+    let (mut bytes, mut videos, mut retries) = (0u64, 0u64, 0u64);
     for ((subject, _), outcome) in tokens.iter().zip(outcomes) {
         let o = match outcome {
             Ok(o) => o,
@@ -238,8 +259,8 @@ fn main() {
         }
         acked += o.acked.len();
         ack_ms.extend(o.ack_ms);
-        bytes += o.frame_bytes;
-        frames += o.frames;
+        bytes += o.video_bytes;
+        videos += o.videos;
         retries += o.retries as u64;
     }
     ack_ms.sort_by(f64::total_cmp);
@@ -260,15 +281,16 @@ fn main() {
         ack_ms.last().copied().unwrap_or(f64::NAN)
     );
     println!(
-        "  frames served {frames} ({:.1} MB), {:.2} MB/s, {:.0} frames/s; bytes per trial {:.0}",
+        "  videos served {videos} ({:.1} MB), {:.2} MB/s; bytes per session {:.0}, per trial {:.0}",
         bytes as f64 / 1e6,
         bytes as f64 / 1e6 / elapsed,
-        frames as f64 / elapsed,
+        bytes as f64 / a.subjects.max(1) as f64,
         bytes as f64 / acked.max(1) as f64
     );
     println!(
-        "  server peak RSS {:.1} MB; client retries {retries}",
-        max_rss.load(Ordering::Relaxed) as f64 / 1024.0
+        "  server peak RSS {:.1} MB; server CPU {cpu_s:.1} s ({:.0}% of one core); client retries {retries}",
+        max_rss.load(Ordering::Relaxed) as f64 / 1024.0,
+        100.0 * cpu_s / elapsed
     );
     for (k, at, restart) in kill_log {
         println!("  kill {k} at {at:.1} s, back up in {restart:.2} s");

@@ -310,6 +310,34 @@ impl Session {
         }
     }
 
+    /// Up to `n` trials from the one presented now (or presented next, at a screen stage) that
+    /// no answer can change: the practice trials left, then the main ones as far as the
+    /// procedure knows them (constant stimuli: all; adaptive: the next if it is certain).
+    pub fn upcoming(&self, n: usize) -> Vec<Trial> {
+        let mut out = Vec::new();
+        if self.stage == Stage::Finished {
+            return out;
+        }
+        if self.main_done == 0 {
+            out.extend(
+                self.practice
+                    .iter()
+                    .skip(self.practice_done)
+                    .take(n)
+                    .cloned(),
+            );
+            // The first main trial depends on no answer.
+        }
+        if out.len() < n
+            && let Some(t) = self.procedure.current()
+        {
+            out.push(t.clone());
+            out.extend(self.procedure.ahead(n - out.len()));
+        }
+        out.truncate(n);
+        out
+    }
+
     /// Leave a screen stage (instructions, end of practice, break) for the next trial.
     pub fn advance(&mut self) {
         if matches!(

@@ -1,8 +1,9 @@
 //! The HTTP surface of `blurlab serve` against requests a browser should never send: bad and
 //! unknown tokens, bad JSON, oversize bodies, replayed and out-of-order answers, a second tab,
-//! path traversal (plain, percent-encoded, absolute) and stale frame handles. Each gets its
-//! status and a JSON message, and changes nothing (the log is compared byte for byte).
-//! Also: the security headers, the admin token, and that frames are the PNG files' bytes.
+//! path traversal (plain, percent-encoded, absolute), another subject's video ids and stimulus
+//! names. Each gets its status and a JSON message, and changes nothing (the log is compared byte
+//! for byte). Also: the security headers, the admin token, and that a video's frames decode to the
+//! PNG files' pixels exactly.
 
 use experiment::Design;
 use experiment::fixture::{StudySpec, write_study};
@@ -76,15 +77,18 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
     let first_ack = r.body["ack"].clone();
     let log_path = out.join("sessions").join(format!("{subject}.jsonl"));
     let log_before = std::fs::read(&log_path).unwrap();
-    // The first trial's handles are stale now.
-    let stale = trial.pairs[0][0].clone();
-
+    let first_id = trial.pairs[0][0].clone();
+    let practice0 = &experiment::trials::plan(&design, &subject).practice[0];
+    let trial_stimulus = practice0.video(1, experiment::log::Side::Left).to_string();
     let handle = {
         let r = http.get(api("state?tab=A")).send().await.unwrap();
         let st: State = serde_json::from_slice(&r.bytes().await.unwrap()).unwrap();
         st.trial.unwrap().pairs[1][1].clone()
     };
     let p = |s: &str| format!("/api/s/{token}/{s}");
+    let design_stimulus = experiment::trials::plan(&design, &subject).main[0]
+        .test_stimulus
+        .clone();
     let big = format!("{{\"tab\":\"A\",\"pad\":\"{}\"}}", "x".repeat(300 * 1024));
     let cases = vec![
         Case {
@@ -216,78 +220,70 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             message: "query `tab`",
         },
         Case {
-            what: "another link's handle",
+            what: "another link's video id",
             method: "GET",
-            path: format!("/api/s/{other_token}/frame/{handle}/0"),
+            path: format!("/api/s/{other_token}/video/{handle}"),
             body: None,
             status: 404,
-            message: "no such frame",
+            message: "no such video",
         },
         Case {
-            what: "stale handle",
+            what: "a stimulus by its name",
             method: "GET",
-            path: p(&format!("frame/{stale}/0")),
+            path: p(&format!("video/{}", design_stimulus)),
             body: None,
             status: 404,
-            message: "no such frame",
+            message: "no such video",
         },
         Case {
-            what: "frame past the end",
+            what: "uppercase id",
             method: "GET",
-            path: p(&format!("frame/{handle}/6")),
+            path: p(&format!("video/{}", handle.to_uppercase())),
             body: None,
             status: 404,
-            message: "no such frame",
+            message: "no such video",
         },
         Case {
-            what: "negative frame",
+            what: "traversal in id",
             method: "GET",
-            path: p(&format!("frame/{handle}/-1")),
+            path: p("video/..%2f..%2fdesign.json"),
             body: None,
             status: 404,
-            message: "no such frame",
-        },
-        Case {
-            what: "traversal in handle",
-            method: "GET",
-            path: p("frame/..%2f..%2fdesign.json/0"),
-            body: None,
-            status: 404,
-            message: "no such frame",
+            message: "no such video",
         },
         // (The client's URL parser resolves `%2e%2e` as `..` before sending: the server sees a
         // shorter path, which no route matches.)
         Case {
             what: "encoded dots",
             method: "GET",
-            path: p("frame/%2e%2e/%2e%2e"),
+            path: p("video/%2e%2e"),
             body: None,
             status: 404,
             message: "no such",
         },
         Case {
-            what: "encoded dots in a handle",
+            what: "encoded dots in an id",
             method: "GET",
-            path: p("frame/a%2e%2e/0"),
+            path: p("video/a%2e%2e"),
             body: None,
             status: 404,
-            message: "no such frame",
+            message: "no such video",
         },
         Case {
             what: "absolute path",
             method: "GET",
-            path: p("frame/%2fetc%2fpasswd/0"),
+            path: p("video/%2fetc%2fpasswd"),
             body: None,
             status: 404,
-            message: "no such frame",
+            message: "no such video",
         },
         Case {
             what: "manifest by name",
             method: "GET",
-            path: p("frame/manifest.json/0"),
+            path: p("video/manifest.json"),
             body: None,
             status: 404,
-            message: "no such frame",
+            message: "no such video",
         },
         Case {
             what: "asset traversal",
@@ -360,27 +356,32 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
         "nothing moved"
     );
 
-    // Frames are the manifest's PNG files byte for byte; headers leak nothing.
+    // A video is the stimulus's frames as lossless WebP, pixel for pixel; headers leak nothing.
     let r = http
-        .get(api(&format!("frame/{handle}/0")))
+        .get(api(&format!("video/{first_id}")))
         .send()
         .await
         .unwrap();
     assert_eq!(r.status(), 200);
     let h = r.headers().clone();
-    assert_eq!(h["content-type"], "image/png");
+    assert_eq!(h["content-type"], "application/octet-stream");
     assert_eq!(h["cache-control"], "no-store");
     assert!(h.get("etag").is_none() && h.get("last-modified").is_none());
     assert!(h.get("content-disposition").is_none());
     let bytes = r.bytes().await.unwrap();
+    let frames = experiment::web::packs::split(&bytes).unwrap();
+    assert_eq!(frames.len(), 6);
+    let stimulus = &trial_stimulus;
     let manifest = renderer::manifest::Manifest::load(&design.manifest_path).unwrap();
     let folder = design.manifest_path.parent().unwrap();
-    let served_a_stimulus_frame = manifest
-        .stimuli
-        .iter()
-        .flat_map(|s| s.frame_paths.iter())
-        .any(|p| std::fs::read(folder.join(p)).unwrap() == bytes);
-    assert!(served_a_stimulus_frame);
+    let files = &manifest.get(stimulus).unwrap().frame_paths;
+    for (n, range) in frames.iter().enumerate() {
+        let got = image::load_from_memory(&bytes[range.clone()])
+            .unwrap()
+            .into_rgb8();
+        let want = image::open(folder.join(&files[n])).unwrap().into_rgb8();
+        assert_eq!(got.as_raw(), want.as_raw(), "frame {n} of {stimulus}");
+    }
 
     // Every page carries the security headers.
     let r = http.get(format!("{base}/s/{token}")).send().await.unwrap();

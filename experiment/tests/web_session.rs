@@ -86,7 +86,19 @@ async fn whole_session(design: Design, dir: &Path) {
     server.stop().await;
     let log = SessionLog::read(&out.join("sessions").join(format!("{subject}.jsonl"))).unwrap();
     assert_eq!(outcome.acked.len(), log.trials.len());
-    assert!(outcome.frames > 0);
+    // Each distinct video crossed the network once: for constant stimuli, exactly the videos
+    // the subject's trial list shows.
+    assert_eq!(outcome.videos as usize, outcome.fetched.len());
+    if design.file.procedure.is_constant() {
+        let plan = experiment::trials::plan(&design, &subject);
+        let distinct: std::collections::BTreeSet<&str> = plan
+            .practice
+            .iter()
+            .chain(&plan.main)
+            .flat_map(|t| t.stimuli())
+            .collect();
+        assert_eq!(outcome.fetched.len(), distinct.len());
+    }
     assert_same_as_simulation(&design, &log, &subject);
     assert!(log.resumes.is_empty());
 }

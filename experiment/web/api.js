@@ -69,8 +69,4 @@ export class Api {
   answer(answer) {
     return this.request("POST", "/answer", { tab: this.tab, ...answer });
   }
-
-  frameUrl(handle, n) {
-    return `${this.base}/frame/${encodeURIComponent(handle)}/${n}`;
-  }
 }

@@ -11,7 +11,8 @@ import {
   measureRefresh,
   pixelsPerDegree,
 } from "./calibrate.js";
-import { drawPairs, play, preload, release, tooSmall } from "./trial.js";
+import { closeAll, decodeFrame, decoders, drawPairs, play, prime, tooSmall } from "./trial.js";
+import { VideoStore } from "./videos.js";
 import { fitCanvas, windowDevicePx } from "./stage.js";
 import { message, nextKey, setScreen, sleep } from "./ui.js";
 
@@ -24,8 +25,10 @@ const canvas = document.getElementById("stage");
 let fullscreen = false;
 let refreshMs = null;
 let stopped = false;
-// The trial whose frames are in memory, for the read-back test hook.
+// The trial whose videos are at hand, for the read-back test hook.
 let loaded = null;
+// The session's encoded videos.
+let store = null;
 
 /** What the page needs; the names of the missing features. */
 function browserCheck() {
@@ -146,17 +149,38 @@ async function breakScreen(api, state) {
   return api.advance("break");
 }
 
-/** Preload, play, take the key, post the answer until acknowledged; returns the new State. */
+/** The trial's videos (fetched now unless fetched ahead) and pair 1's first frames decoded;
+ *  returns {packs, first, ms}: ms is the wait before the trial can start. */
+async function prepare(state) {
+  const t0 = performance.now();
+  const ids = [...new Set(state.trial.pairs.flat())];
+  store.pin([...ids, ...state.ahead]);
+  const got = await Promise.all(ids.map((id) => store.get(id)));
+  store.want(state.ahead);
+  const packs = new Map(ids.map((id, k) => [id, got[k]]));
+  const first = decoders(state, packs, state.playback.layout === "sequential" ? [0] : [0, 1]);
+  try {
+    await prime(first);
+  } catch (e) {
+    closeAll(first);
+    throw e;
+  }
+  return { packs, first, ms: performance.now() - t0 };
+}
+
+/** Fetch, decode, play, take the key, post the answer until acknowledged; returns the State. */
 async function trial(api, state) {
   await waitUntilFits(state);
   const t = state.trial;
   message("preload", t.practice ? "Practice" : "Next trial", "Loading the videos…");
-  const { frames, bytes, ms } = await preload(api, t, state.video);
-  loaded = { state, frames, bytes };
+  const { packs, first, ms } = await prepare(state);
+  loaded = { state, packs };
+  document.body.dataset.fetchedBytes = String(store.fetchedBytes);
+  document.body.dataset.fetches = String(store.fetches);
   try {
     if (refreshMs === null) refreshMs = await measureRefresh(30);
     setScreen("trial");
-    const timing = await play(canvas, state, frames, refreshMs);
+    const timing = await play(canvas, state, packs, first, refreshMs);
     const keys = [...state.keys.pair1, ...state.keys.pair2];
     document.body.dataset.trial = `${t.practice ? "p" : "m"}${t.index}`;
     message("respond", "Which pair differed?", "", hintFor(state));
@@ -184,7 +208,7 @@ async function trial(api, state) {
     return reply.state;
   } finally {
     loaded = null;
-    release(frames);
+    closeAll(first);
   }
 }
 
@@ -230,6 +254,9 @@ async function run() {
     return;
   }
   heartbeat(api);
+  store = new VideoStore(api, state.client, state.video.frames);
+  await store.open();
+  store.want(state.ahead);
   if (state.phase !== "done") await welcome();
   while (!stopped) {
     try {
@@ -250,6 +277,8 @@ async function run() {
 }
 
 async function step(api, state) {
+  // At a screen, fetch what the next trials show (at a trial, once its own videos are here).
+  if (state.trial === null) store.want(state.ahead);
   switch (state.phase) {
     case "display_check":
       return displayCheck(api, state);
@@ -261,6 +290,7 @@ async function step(api, state) {
     case "break":
       return breakScreen(api, state);
     case "done":
+      await store.clear();
       stop("done", "Thank you!", state.message || "All trials are done and your answers are saved.");
       return state;
     default:
@@ -272,22 +302,29 @@ async function step(api, state) {
 // of the loaded trial and holding it so the canvas can be read back.
 window.blurlab = {
   config,
-  /** Draw frame `n` of pair `pair` (1 or 2) of the loaded trial and keep it up; returns the
-   *  rectangles, the canvas size and the frame URLs (to fetch the PNG bytes). */
-  hold(pair, n) {
+  /** Decode frame `n` of pair `pair` (1 or 2) of the loaded trial, draw it and keep it up;
+   *  resolves to the rectangles, the canvas size, the ratio and the pair's video ids. */
+  async hold(pair, n) {
     if (!loaded) return null;
+    const ids = loaded.state.trial.pairs[pair - 1];
+    const bitmaps = await Promise.all(ids.map((id) => decodeFrame(loaded.packs.get(id), n)));
     const ctx = fitCanvas(canvas);
     canvas.hidden = false;
     document.getElementById("panel").hidden = true;
-    const rects = drawPairs(ctx, loaded.state, loaded.frames, [pair - 1], n);
+    const rects = drawPairs(ctx, loaded.state, (_, s) => bitmaps[s], [pair - 1]);
+    for (const b of bitmaps) b.close();
     setScreen("hold");
     return {
       rects: rects[pair - 1],
       canvas: [canvas.width, canvas.height],
       css: [canvas.getBoundingClientRect().width, canvas.getBoundingClientRect().height],
       dpr: window.devicePixelRatio,
-      urls: loaded.state.trial.pairs[pair - 1].map((h) => `/api/s/${location.pathname.split("/")[2]}/frame/${h}/${n}`),
+      ids,
     };
+  },
+  /** What the video store fetched: {bytes, fetches, cache: "storage" | "memory"}. */
+  fetched() {
+    return { bytes: store.fetchedBytes, fetches: store.fetches, cache: store.cache ? "storage" : "memory" };
   },
 };
 

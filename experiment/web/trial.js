@@ -1,72 +1,124 @@
-// One trial: preload every frame of its four videos into decoded ImageBitmaps, then play the
-// presentation paced by requestAnimationFrame (the lab app's presentation.rs, step for step):
+// One trial: its videos (encoded, from the VideoStore), decoded while they play, a lookahead of
+// frames ahead of the one shown (State.client.lookahead_frames); then the presentation paced by
+// requestAnimationFrame (the lab app's presentation.rs, step for step):
 //
 //   sequential: fixation -> pair 1 (loops x video) -> gap -> pair 2 (loops x video) -> respond
 //   grid:       fixation -> both pairs at once (loops x video)                      -> respond
 //
 // The frame shown is floor((t - t0) fps) with t the rAF timestamp and t0 the timestamp of the
-// pair's first frame: frames follow the clock, so a missed refresh skips a frame (counted as
-// dropped) instead of slowing the video. A frame drawn later than the first refresh at or after
-// its due time is counted as late.
+// pair's first frame: frames follow the clock, so a frame not decoded in time, like a missed
+// refresh, is skipped (counted as dropped) instead of slowing the video. A frame drawn later than
+// the first refresh at or after its due time is counted as late. A pair starts only once its
+// first frames are decoded (before the trial for pair 1, during the gap for pair 2).
 
 import { drawBlank, drawFixation, fitCanvas, videoRects, windowDevicePx } from "./stage.js";
 
-const PRELOAD_CONCURRENCY = 6;
 // rAF timestamps of a refresh that falls exactly on a frame's due time may come a hair early.
 const DUE_TOLERANCE_MS = 0.5;
 
 const BITMAP_OPTIONS = { colorSpaceConversion: "none", premultiplyAlpha: "none" };
 
-/** Fetch one frame, retrying network errors a few times; returns [ImageBitmap, bytes]. */
-async function loadFrame(url) {
-  for (let attempt = 0; ; attempt++) {
-    try {
-      const res = await fetch(url, { cache: "no-store" });
-      if (!res.ok) throw new Error(`HTTP ${res.status} for a frame`);
-      const blob = await res.blob();
-      return [await createImageBitmap(blob, BITMAP_OPTIONS), blob.size];
-    } catch (e) {
-      if (attempt >= 4) throw e;
-      await new Promise((r) => setTimeout(r, 250 * 2 ** attempt));
+/** Decode frame `n` of a pack (exact: no colour conversion, no premultiplication). */
+export function decodeFrame(pack, n) {
+  return createImageBitmap(pack.frame(n), BITMAP_OPTIONS);
+}
+
+/**
+ * One video's frames decoded ahead of playback: frame g (over the loops; frame g % frames of the
+ * video) is asked for once frame g - ahead is shown, and closed once a later one is.
+ */
+export class Lookahead {
+  constructor(pack, frames, loops, ahead) {
+    this.pack = pack;
+    this.frames = frames;
+    this.total = frames * loops;
+    this.ahead = ahead;
+    this.bitmaps = new Map();
+    this.pending = new Map();
+    this.next = 0;
+    this.closed = false;
+    this.error = null;
+  }
+
+  /** Ask for the frames up to `shown + ahead`. */
+  fill(shown) {
+    const end = Math.min(this.total, shown + this.ahead + 1);
+    for (; this.next < end; this.next++) {
+      const g = this.next;
+      const p = decodeFrame(this.pack, g % this.frames).then(
+        (b) => {
+          if (this.closed) b.close();
+          else this.bitmaps.set(g, b);
+        },
+        (e) => {
+          this.error = e;
+        },
+      );
+      this.pending.set(g, p);
+      p.finally(() => this.pending.delete(g));
     }
+  }
+
+  /** Ask for the lookahead's frames and wait for the first third of them (at least one): the
+   *  rest decode while the video plays. */
+  async prime() {
+    this.fill(0);
+    const first = Math.max(1, Math.ceil(this.ahead / 3));
+    await Promise.all([...this.pending].filter(([g]) => g < first).map(([, p]) => p));
+    if (this.error) throw this.error;
+  }
+
+  get(g) {
+    return this.bitmaps.get(g);
+  }
+
+  /** Frame g is on screen: close the frames before it, ask for the next ones. */
+  shown(g) {
+    for (const [k, b] of this.bitmaps) {
+      if (k < g) {
+        b.close();
+        this.bitmaps.delete(k);
+      }
+    }
+    this.fill(g);
+  }
+
+  close() {
+    this.closed = true;
+    for (const b of this.bitmaps.values()) b.close();
+    this.bitmaps.clear();
   }
 }
 
 /**
- * Every frame of the trial's four videos, decoded: `{frames: [[pair1 left, pair1 right],
- * [pair2 left, pair2 right]] (arrays of ImageBitmap), bytes, ms}`.
+ * Decoders for the given pairs (indices 0/1) of a trial: `decoders[p][s]`, one Lookahead per
+ * distinct video (a pair showing one video twice decodes it once). `packs` maps id -> Pack.
  */
-export async function preload(api, trial, video) {
-  const t0 = performance.now();
-  const jobs = [];
-  const frames = trial.pairs.map((pair) => pair.map(() => new Array(video.frames)));
-  trial.pairs.forEach((pair, p) =>
-    pair.forEach((handle, s) => {
-      for (let n = 0; n < video.frames; n++) jobs.push({ p, s, n, url: api.frameUrl(handle, n) });
-    }),
-  );
-  let next = 0;
-  let bytes = 0;
-  const worker = async () => {
-    while (next < jobs.length) {
-      const job = jobs[next++];
-      const [bitmap, size] = await loadFrame(job.url);
-      frames[job.p][job.s][job.n] = bitmap;
-      bytes += size;
-    }
-  };
-  try {
-    await Promise.all(Array.from({ length: PRELOAD_CONCURRENCY }, worker));
-  } catch (e) {
-    release(frames);
-    throw e;
+export function decoders(state, packs, pairs) {
+  const out = [null, null];
+  const { frames } = state.video;
+  const ahead = state.client.lookahead_frames;
+  for (const p of pairs) {
+    const ids = state.trial.pairs[p];
+    const first = new Lookahead(packs.get(ids[0]), frames, state.playback.loops, ahead);
+    const second =
+      ids[1] === ids[0] ? first : new Lookahead(packs.get(ids[1]), frames, state.playback.loops, ahead);
+    out[p] = [first, second];
   }
-  return { frames, bytes, ms: performance.now() - t0 };
+  return out;
 }
 
-/** Free the decoded frames of a finished trial. */
-export function release(frames) {
-  for (const pair of frames) for (const video of pair) for (const b of video) if (b) b.close();
+function distinct(decs) {
+  return [...new Set(decs.flat().filter(Boolean))];
+}
+
+/** Prime the decoders of some pairs; returns when their first frames are decoded. */
+export function prime(decs) {
+  return Promise.all(distinct(decs).map((d) => d.prime()));
+}
+
+export function closeAll(decs) {
+  for (const d of distinct(decs)) d.close();
 }
 
 function median(xs) {
@@ -75,14 +127,15 @@ function median(xs) {
   return s[Math.floor(s.length / 2)];
 }
 
-/** Draw frame `n` of the given pairs' videos (pairs: indices 0/1) over the background. */
-export function drawPairs(ctx, state, frames, pairs, n) {
+/** Draw the given pairs' videos (pairs: indices 0/1) over the background; `pick(p, s)` gives
+ *  the bitmap of pair p's side s. */
+export function drawPairs(ctx, state, pick, pairs) {
   const rects = videoRects([ctx.canvas.width, ctx.canvas.height], state.video, state.playback);
   drawBlank(ctx, state.playback.background);
   for (const p of pairs) {
     for (let s = 0; s < 2; s++) {
       const r = rects[p][s];
-      ctx.drawImage(frames[p][s][n], r.x, r.y, r.w, r.h);
+      ctx.drawImage(pick(p, s), r.x, r.y, r.w, r.h);
     }
   }
   return rects;
@@ -91,9 +144,10 @@ export function drawPairs(ctx, state, frames, pairs, n) {
 /**
  * Play the trial on `canvas`; resolves when the answer is due with the timing record:
  * `{respondAt, onsets_ms, frame_times_ms, dropped_frames, late_frames, refresh_interval_ms}`.
+ * `packs` maps video id -> Pack; `firstDecs` holds the primed decoders of the first pairs shown.
  * `refreshMs` is the refresh interval measured before (used until this trial measures its own).
  */
-export function play(canvas, state, frames, refreshMs) {
+export function play(canvas, state, packs, firstDecs, refreshMs) {
   const pb = state.playback;
   const fps = state.video.fps;
   const total = state.video.frames * pb.loops;
@@ -102,13 +156,16 @@ export function play(canvas, state, frames, refreshMs) {
       ? [
           { kind: "fixation", ms: pb.fixation_ms },
           { kind: "play", pairs: [0] },
-          { kind: "gap", ms: pb.gap_ms },
+          { kind: "gap", ms: pb.gap_ms, next: [1] },
           { kind: "play", pairs: [1] },
           { kind: "respond" },
         ]
       : [{ kind: "fixation", ms: pb.fixation_ms }, { kind: "play", pairs: [0, 1] }, { kind: "respond" }];
   const ctx = fitCanvas(canvas);
   canvas.hidden = false;
+  let decs = firstDecs;
+  let nextDecs = null;
+  let nextReady = false;
   let current = 0;
   let start = null;
   let last = null;
@@ -118,7 +175,7 @@ export function play(canvas, state, frames, refreshMs) {
   const times = [];
   let dropped = 0;
   let late = 0;
-  return new Promise((resolve) => {
+  return new Promise((resolve, reject) => {
     const tick = (ts) => {
       if (prev !== null) deltas.push(ts - prev);
       prev = ts;
@@ -129,7 +186,14 @@ export function play(canvas, state, frames, refreshMs) {
         if (first) start = ts;
         const elapsed = ts - start;
         if (step.kind === "fixation" || step.kind === "gap") {
-          if (elapsed >= step.ms) {
+          if (first && step.next) {
+            // Decode the next pair's first frames during the gap.
+            nextDecs = decoders(state, packs, step.next);
+            nextReady = false;
+            prime(nextDecs).then(() => (nextReady = true), reject);
+          }
+          if (elapsed >= step.ms && (!step.next || nextReady)) {
+            if (step.next) decs = nextDecs;
             current += 1;
             start = null;
             continue;
@@ -161,17 +225,23 @@ export function play(canvas, state, frames, refreshMs) {
         if (index >= total) {
           // Frames due before the end but never drawn were dropped too.
           dropped += total - (last === null ? 0 : last + 1);
+          closeAll(decs);
           current += 1;
           start = null;
           continue;
         }
         if (index !== last) {
-          dropped += index - (last === null ? 0 : last + 1);
-          const due = start + (index * 1000) / fps;
-          if (refresh && ts - due >= refresh + DUE_TOLERANCE_MS) late += 1;
-          drawPairs(ctx, state, frames, step.pairs, index % state.video.frames);
-          times.push(ts);
-          last = index;
+          const ready = step.pairs.every((p) => decs[p].every((d) => d.get(index)));
+          if (ready) {
+            dropped += index - (last === null ? 0 : last + 1);
+            const due = start + (index * 1000) / fps;
+            if (refresh && ts - due >= refresh + DUE_TOLERANCE_MS) late += 1;
+            drawPairs(ctx, state, (p, s) => decs[p][s].get(index), step.pairs);
+            times.push(ts);
+            last = index;
+          }
+          // A frame not decoded in time is skipped (dropped) once a later one is drawn.
+          for (const d of new Set(step.pairs.flatMap((p) => decs[p]))) d.shown(index);
         }
         requestAnimationFrame(tick);
         return;

@@ -1,6 +1,8 @@
 //! `blurlab serve`: subjects' sessions in their browsers (`experiment::web`; docs/web.md).
 
 use clap::Args;
+use experiment::web::budget::{Budget, Limits, gb};
+use experiment::web::wire::ClientSettings;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 
@@ -25,18 +27,66 @@ pub struct ServeArgs {
     /// The URL subjects reach the server at, for the links (behind a proxy: its https URL).
     #[arg(long)]
     pub base_url: Option<String>,
+    /// Encode the videos (if not yet), print what a session costs a browser, and stop; exits
+    /// with an error for a design no browser can hold.
+    #[arg(long)]
+    pub check: bool,
+    /// Copy the encoded videos under opaque names into DIR for a static server, and stop.
+    #[arg(long, value_name = "DIR", conflicts_with = "check")]
+    pub export_videos: Option<PathBuf>,
+    /// Browsers fetch videos from this URL (a static server holding an --export-videos folder)
+    /// instead of from this server; answers still come here.
+    #[arg(long, value_name = "URL")]
+    pub video_base_url: Option<String>,
+    /// Frames decoded ahead of the one shown, per video playing.
+    #[arg(long, default_value_t = ClientSettings::default().lookahead_frames)]
+    pub lookahead_frames: u32,
+    /// Most encoded video the browser keeps, in MB (Cache Storage; in memory where it is
+    /// unavailable, at most 768 MB).
+    #[arg(long, default_value_t = ClientSettings::default().cache_bytes / 1_000_000)]
+    pub cache_mb: u64,
+    /// Trials ahead whose videos the browser fetches while the current one plays.
+    #[arg(long, default_value_t = ClientSettings::default().fetch_ahead_trials)]
+    pub fetch_ahead_trials: u32,
+    /// Warn when a session moves more than this many GB.
+    #[arg(long, default_value_t = 3.0)]
+    pub budget_gb: f64,
+    /// Warn when a trial takes more browser memory than this many GB.
+    #[arg(long, default_value_t = 1.2)]
+    pub memory_budget_gb: f64,
 }
 
 pub fn run(args: &ServeArgs) -> anyhow::Result<()> {
-    let config = experiment::web::Config {
-        design: args.design.clone(),
-        out: args.out.clone(),
-        addr: args.addr,
-        enrol: args.enrol,
-        open_enrolment: args.open_enrolment,
-        base_url: args.base_url.clone(),
+    let config = config(args)?;
+    let mut progress = |k: usize, n: usize, id: &str| {
+        eprintln!("encoding video {} of {n} as lossless WebP: {id}", k + 1);
     };
-    experiment::web::serve_until_interrupted(&config, |s| {
+    if args.check {
+        let (_, budget) = experiment::web::measure_study(&config, &mut progress)?;
+        print_budget(&budget);
+        if let Some(why) = budget.refusal() {
+            anyhow::bail!("{}: {why}", args.design.display());
+        }
+        println!("no browser limit is passed");
+        return Ok(());
+    }
+    if let Some(dir) = &args.export_videos {
+        let e = experiment::web::export::export(&config, dir, &mut progress)?;
+        println!(
+            "exported {} videos ({}; {} already there) to {}",
+            e.videos,
+            gb(e.bytes),
+            e.kept,
+            dir.display()
+        );
+        println!(
+            "serve that folder with CORS and cache headers (docs/web.md), then start with \
+             --video-base-url URL and the same --out"
+        );
+        return Ok(());
+    }
+    experiment::web::serve_until_interrupted(&config, &mut progress, |s| {
+        print_budget(&s.budget);
         println!(
             "serving on http://{} ({} subjects enrolled)",
             s.addr, s.subjects
@@ -51,4 +101,53 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<()> {
         println!("admin:         {}", s.admin_url);
         println!("stop with Ctrl-C; a restart continues every session");
     })
+}
+
+fn config(args: &ServeArgs) -> anyhow::Result<experiment::web::Config> {
+    for (name, x) in [
+        ("--budget-gb", args.budget_gb),
+        ("--memory-budget-gb", args.memory_budget_gb),
+    ] {
+        anyhow::ensure!(
+            x.is_finite() && x > 0.0,
+            "{name} is {x}; expected a number of GB above 0"
+        );
+    }
+    if let Some(url) = &args.video_base_url {
+        anyhow::ensure!(
+            url.starts_with("https://") || url.starts_with("http://"),
+            "--video-base-url {url:?}: expected an http:// or https:// URL"
+        );
+    }
+    Ok(experiment::web::Config {
+        design: args.design.clone(),
+        out: args.out.clone(),
+        addr: args.addr,
+        enrol: args.enrol,
+        open_enrolment: args.open_enrolment,
+        base_url: args.base_url.clone(),
+        client: ClientSettings {
+            lookahead_frames: args.lookahead_frames,
+            cache_bytes: args.cache_mb.saturating_mul(1_000_000),
+            fetch_ahead_trials: args.fetch_ahead_trials,
+            video_base: args
+                .video_base_url
+                .as_ref()
+                .map(|u| u.trim_end_matches('/').to_string()),
+        },
+        limits: Limits {
+            session_bytes: (args.budget_gb * 1e9) as u64,
+            memory_bytes: (args.memory_budget_gb * 1e9) as u64,
+        },
+    })
+}
+
+fn print_budget(b: &Budget) {
+    println!("a session, as a browser gets it:");
+    for line in b.lines() {
+        println!("  {line}");
+    }
+    for w in b.warnings() {
+        println!("warning: {w}");
+    }
 }

@@ -29,6 +29,15 @@ impl Procedure for ConstantStimuli {
         self.main.get(self.done + 1).cloned()
     }
 
+    fn ahead(&self, n: usize) -> Vec<Trial> {
+        self.main
+            .iter()
+            .skip(self.done + 1)
+            .take(n)
+            .cloned()
+            .collect()
+    }
+
     fn planned(&self) -> u32 {
         self.main.len() as u32
     }

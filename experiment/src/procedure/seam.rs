@@ -13,6 +13,11 @@ pub trait Procedure: std::fmt::Debug + Send {
     /// The trial after the current one when no answer to the current one can change it (what
     /// the app may load while the subject answers); `None` when it depends on the answer.
     fn after_current(&self) -> Option<Trial>;
+    /// Up to `n` trials after the current one that no answer can change (what a browser may
+    /// fetch ahead); by default only [`Procedure::after_current`].
+    fn ahead(&self, n: usize) -> Vec<Trial> {
+        self.after_current().into_iter().take(n).collect()
+    }
     /// The most main trials the procedure can present (the log header's `trials_planned`).
     fn planned(&self) -> u32;
     /// Main trials answered.

@@ -21,7 +21,7 @@ use std::sync::Arc;
 type Shared = State<Arc<App>>;
 type Peer = ConnectInfo<SocketAddr>;
 
-pub(crate) fn router(app: Arc<App>) -> Router {
+pub(crate) fn router(app: Arc<App>, csp: axum::http::HeaderValue) -> Router {
     Router::new()
         .route("/s/{token}", get(page))
         .route("/assets/{name}", get(asset))
@@ -31,12 +31,12 @@ pub(crate) fn router(app: Arc<App>) -> Router {
         .route("/api/s/{token}/display", post(display))
         .route("/api/s/{token}/advance", post(advance))
         .route("/api/s/{token}/answer", post(answer))
-        .route("/api/s/{token}/frame/{handle}/{n}", get(frame))
+        .route("/api/s/{token}/video/{id}", get(video))
         .route("/admin", get(admin::page))
         .route("/admin/progress.json", get(admin::progress))
         .fallback(not_found)
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
-        .layer(axum::middleware::from_fn(guard::headers))
+        .layer(axum::middleware::from_fn_with_state(csp, guard::headers))
         .with_state(app)
 }
 
@@ -250,33 +250,33 @@ async fn answer(
     with_subject(app, entry, move |app, s| s.answer(&app.study, &a)).await
 }
 
-/// Frame `n` of the video behind `handle`: the stimulus PNG file's bytes, unchanged. The file is
-/// one the manifest lists for the current trial; nothing in the request becomes a path.
-async fn frame(
+/// The encoded video behind `id` (a frame pack, streamed from the stimulus set's cache). The
+/// id is one of this subject's; nothing in the request becomes a path.
+async fn video(
     State(app): Shared,
     ConnectInfo(peer): Peer,
-    Path((token, handle, n)): Path<(String, String, String)>,
+    Path((token, id)): Path<(String, String)>,
 ) -> Result<Response, ApiError> {
     let entry = lookup(&app, &token, peer)?;
-    let gone =
-        || ApiError::not_found("no such frame: the trial has moved on or the address is wrong");
-    let frames = tokens::looks_like_token(&handle)
-        .then(|| {
-            entry
-                .handles
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .get(&handle)
-                .cloned()
-        })
+    let stimulus = tokens::looks_like_token(&id)
+        .then(|| entry.videos.stimulus_of.get(&id))
         .flatten()
-        .ok_or_else(gone)?;
-    let n: usize = n.parse().map_err(|_| gone())?;
-    let path = frames.get(n).ok_or_else(gone)?;
-    let bytes = tokio::fs::read(path).await.map_err(|e| {
+        .ok_or_else(|| ApiError::not_found("no such video: the address is wrong"))?;
+    let served = app
+        .study
+        .video_of(stimulus)
+        .ok_or_else(|| ApiError::not_found("no such video: the address is wrong"))?;
+    let file = tokio::fs::File::open(&served.path).await.map_err(|e| {
         ApiError::internal(&anyhow::anyhow!(
-            "a stimulus frame cannot be read ({e}); tell the experimenter"
+            "an encoded video cannot be read ({e}); tell the experimenter"
         ))
     })?;
-    Ok(([(header::CONTENT_TYPE, "image/png")], bytes).into_response())
+    Ok((
+        [
+            (header::CONTENT_TYPE, "application/octet-stream".to_string()),
+            (header::CONTENT_LENGTH, served.pack.bytes.to_string()),
+        ],
+        axum::body::Body::from_stream(super::stream::chunks(file)),
+    )
+        .into_response())
 }

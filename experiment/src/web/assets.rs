@@ -31,6 +31,7 @@ pub const ASSETS: &[Asset] = &[
     asset!("stage.js", "text/javascript; charset=utf-8"),
     asset!("trial.js", "text/javascript; charset=utf-8"),
     asset!("ui.js", "text/javascript; charset=utf-8"),
+    asset!("videos.js", "text/javascript; charset=utf-8"),
     asset!("style.css", "text/css; charset=utf-8"),
 ];
 

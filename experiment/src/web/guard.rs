@@ -2,7 +2,7 @@
 //! for look-ups of unknown links, which is what guessing a link looks like) and the security
 //! headers of every response.
 
-use axum::extract::Request;
+use axum::extract::{Request, State};
 use axum::http::{HeaderValue, header};
 use axum::middleware::Next;
 use axum::response::Response;
@@ -96,22 +96,35 @@ impl Limiter {
     }
 }
 
-/// The content security policy of every response: this origin only, no inline script or style,
-/// no framing; frames are drawn from `fetch`ed PNGs (`blob:` images) onto a canvas.
-pub const CSP: &str = "default-src 'self'; script-src 'self'; style-src 'self'; \
-     img-src 'self' blob: data:; connect-src 'self'; object-src 'none'; base-uri 'none'; \
-     form-action 'self'; frame-ancestors 'none'";
+/// The content security policy of every response: this origin only (and the static server of
+/// `video_base`, for `fetch` only), no inline script or style, no framing; frames are decoded
+/// from `fetch`ed WebP (`blob:` images) onto a canvas.
+pub fn csp(video_base: Option<&str>) -> HeaderValue {
+    let extra = video_base
+        .map(origin)
+        .map_or(String::new(), |o| format!(" {o}"));
+    let text = format!(
+        "default-src 'self'; script-src 'self'; style-src 'self'; img-src 'self' blob: data:; \
+         connect-src 'self'{extra}; object-src 'none'; base-uri 'none'; form-action 'self'; \
+         frame-ancestors 'none'"
+    );
+    HeaderValue::from_str(&text).unwrap_or_else(|_| HeaderValue::from_static("default-src 'self'"))
+}
+
+/// `scheme://host[:port]` of a URL (the part a CSP source names).
+fn origin(url: &str) -> String {
+    let (scheme, rest) = url.split_once("://").unwrap_or(("https", url));
+    let host = rest.split('/').next().unwrap_or("");
+    format!("{scheme}://{host}")
+}
 
 /// Security headers on every response; `Cache-Control: no-store` on everything but the
 /// client's static files.
-pub async fn headers(req: Request, next: Next) -> Response {
+pub async fn headers(State(csp): State<HeaderValue>, req: Request, next: Next) -> Response {
     let cacheable = req.uri().path().starts_with("/assets/");
     let mut res = next.run(req).await;
     let h = res.headers_mut();
-    h.insert(
-        header::CONTENT_SECURITY_POLICY,
-        HeaderValue::from_static(CSP),
-    );
+    h.insert(header::CONTENT_SECURITY_POLICY, csp);
     h.insert(
         header::X_CONTENT_TYPE_OPTIONS,
         HeaderValue::from_static("nosniff"),
@@ -131,6 +144,18 @@ pub async fn headers(req: Request, next: Next) -> Response {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_policy_names_the_video_server_s_origin_only_for_fetch() {
+        let p = csp(Some("https://cdn.example.org/study1/v"));
+        let p = p.to_str().unwrap();
+        assert!(
+            p.contains("connect-src 'self' https://cdn.example.org;"),
+            "{p}"
+        );
+        assert!(p.contains("script-src 'self';"), "{p}");
+        assert!(csp(None).to_str().unwrap().contains("connect-src 'self';"));
+    }
 
     #[test]
     fn a_bucket_empties_after_its_capacity() {

@@ -1,16 +1,22 @@
 //! `blurlab serve`: subject sessions in browsers (issue 39). The server runs each subject's
 //! [`crate::Session`] over a synced log, exactly as the lab app does, and writes the same
 //! `blurlab-session/1` log (`mode: "web"`); the browser shows what the server chose, through
-//! opaque per-trial frame handles, and reports what the subject pressed. See `docs/web.md`.
+//! opaque video ids, and reports what the subject pressed. Videos travel as lossless WebP frame
+//! packs encoded once beside the stimulus set (`packs.rs`). See `docs/web.md`.
 
 mod admin;
 mod api;
 pub mod assets;
+pub mod budget;
 pub mod error;
+pub mod export;
 pub mod guard;
+pub mod packs;
+mod stream;
 pub mod study;
 pub mod subject;
 pub mod tokens;
+pub mod video_ids;
 pub mod wire;
 
 use crate::design::Design;
@@ -20,8 +26,9 @@ use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, RwLock};
 use study::Study;
-use subject::Subject;
+use subject::{Subject, VideoIds};
 use tokens::Tokens;
+use wire::ClientSettings;
 
 /// Largest request body the API reads (an answer with a few thousand frame times fits easily).
 pub const BODY_LIMIT: usize = 256 * 1024;
@@ -40,6 +47,10 @@ pub struct Config {
     /// The URL subjects reach the server at (behind a proxy: its public https URL); default
     /// `http://ADDR`.
     pub base_url: Option<String>,
+    /// How browsers fetch, keep and decode videos (`client.video_base`: a static server).
+    pub client: ClientSettings,
+    /// The budget a session is checked against (warnings).
+    pub limits: budget::Limits,
 }
 
 /// What a started server tells its operator.
@@ -53,13 +64,17 @@ pub struct Started {
     pub join_url: Option<String>,
     pub subjects: usize,
     pub sessions_dir: PathBuf,
+    /// Videos encoded at this start, and reused from the cache.
+    pub encoded: packs::Encoded,
+    /// The per-session budget (printed at start, and by `--check`).
+    pub budget: budget::Budget,
 }
 
 /// One subject as the server holds them.
 #[derive(Debug)]
 pub(crate) struct Entry {
     pub subject: Mutex<Subject>,
-    pub handles: subject::Handles,
+    pub videos: Arc<VideoIds>,
 }
 
 /// Everything the handlers share.
@@ -72,13 +87,17 @@ pub(crate) struct App {
     pub tokens: Mutex<Tokens>,
     pub per_link: guard::Limiter,
     pub per_address: guard::Limiter,
+    /// Keys the subjects' video ids (`video_ids.rs`).
+    pub video_key: String,
 }
 
 impl App {
     fn insert(&self, name: &str, token: &str) {
-        let s = Subject::new(name, &self.sessions_dir);
+        let shared = self.study.client.video_base.is_some();
+        let videos = Arc::new(VideoIds::new(&self.study, &self.video_key, token, shared));
+        let s = Subject::new(name, &self.sessions_dir, videos.clone());
         let entry = Entry {
-            handles: s.handles.clone(),
+            videos,
             subject: Mutex::new(s),
         };
         self.by_token
@@ -96,14 +115,23 @@ pub struct Server {
 }
 
 impl Server {
-    /// Load the design and its stimuli, the tokens (creating and enrolling as asked), and bind.
+    /// Load the design and its stimuli (encoding the videos not yet encoded), check the budget,
+    /// load the tokens (creating and enrolling as asked), and bind.
     pub async fn bind(config: &Config) -> Result<Self> {
-        let design = Design::load(&config.design)?;
-        let study = Study::load(design)?;
+        Self::bind_with(config, &mut |_, _, _| {}).await
+    }
+
+    /// [`Server::bind`], telling `progress(k, n, stimulus)` each video as its encoding starts.
+    pub async fn bind_with(
+        config: &Config,
+        progress: &mut dyn FnMut(usize, usize, &str),
+    ) -> Result<Self> {
+        let (study, budget) = load_study(config, progress)?;
         let sessions_dir = config.out.join("sessions");
         std::fs::create_dir_all(&sessions_dir)
             .with_context(|| format!("cannot create folder {}", sessions_dir.display()))?;
         let mut tokens = Tokens::load_or_new(&config.out)?;
+        let video_key = tokens.video_key()?;
         if let Some(n) = config.enrol {
             renderer::limits::check_count(
                 "--enrol",
@@ -152,6 +180,8 @@ impl Server {
             subjects: tokens.subjects.len(),
             sessions_dir: sessions_dir.clone(),
             base_url,
+            encoded: study.encoded,
+            budget,
         };
         let app = App {
             study,
@@ -161,6 +191,7 @@ impl Server {
             tokens: Mutex::new(tokens.clone()),
             per_link: guard::Limiter::new(guard::PER_LINK),
             per_address: guard::Limiter::new(guard::PER_ADDRESS_UNKNOWN),
+            video_key,
         };
         for s in &tokens.subjects {
             app.insert(&s.subject, &s.token);
@@ -174,7 +205,8 @@ impl Server {
 
     /// Serve until `shutdown` completes.
     pub async fn run(self, shutdown: impl Future<Output = ()> + Send + 'static) -> Result<()> {
-        let router = api::router(self.app);
+        let csp = guard::csp(self.app.study.client.video_base.as_deref());
+        let router = api::router(self.app, csp);
         axum::serve(
             self.listener,
             router.into_make_service_with_connect_info::<SocketAddr>(),
@@ -185,14 +217,45 @@ impl Server {
     }
 }
 
+/// The design's study with its videos encoded, and its budget (not checked).
+pub fn measure_study(
+    config: &Config,
+    progress: &mut dyn FnMut(usize, usize, &str),
+) -> Result<(Study, budget::Budget)> {
+    anyhow::ensure!(
+        config.client.lookahead_frames >= 1,
+        "--lookahead-frames is 0; expected at least 1"
+    );
+    let design = Design::load(&config.design)?;
+    let study = Study::load(design, config.client.clone(), progress)?;
+    let budget = budget::Budget::of(&study, config.limits);
+    Ok((study, budget))
+}
+
+/// [`measure_study`], refusing a design no browser can hold (`budget::Budget::refusal`).
+pub fn load_study(
+    config: &Config,
+    progress: &mut dyn FnMut(usize, usize, &str),
+) -> Result<(Study, budget::Budget)> {
+    let (study, budget) = measure_study(config, progress)?;
+    if let Some(why) = budget.refusal() {
+        anyhow::bail!("{}: {why}", config.design.display());
+    }
+    Ok((study, budget))
+}
+
 /// `blurlab serve`: bind, tell `report` what started, serve until Ctrl-C.
-pub fn serve_until_interrupted(config: &Config, report: impl FnOnce(&Started)) -> Result<()> {
+pub fn serve_until_interrupted(
+    config: &Config,
+    progress: &mut dyn FnMut(usize, usize, &str),
+    report: impl FnOnce(&Started),
+) -> Result<()> {
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
         .context("cannot start the async runtime")?;
     runtime.block_on(async {
-        let server = Server::bind(config).await?;
+        let server = Server::bind_with(config, progress).await?;
         report(&server.started);
         server
             .run(async {

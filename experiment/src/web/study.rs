@@ -1,65 +1,68 @@
-//! The study a server runs: the design and, for every stimulus it can show, the frame files the
-//! manifest lists. Frames are served only from these paths (never from a path in a request).
+//! The study a server runs: the design and, for every stimulus it can show, its encoded video
+//! (a frame pack, `packs.rs`) in the stimulus set's cache. Videos are served only from these
+//! paths (never from a path in a request).
 
-use super::wire::{Keys, PlaybackInfo, Video};
+use super::packs::{Cache, Encoded, Pack};
+use super::wire::{ClientSettings, Keys, PlaybackInfo, Video};
 use crate::design::{Design, Layout};
 use crate::frames::VideoSource;
 use anyhow::{Result, bail};
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::Arc;
 
-/// The frame files of one stimulus, in playback order.
-pub type Frames = Arc<[PathBuf]>;
+/// One stimulus's encoded video and where it lies.
+#[derive(Clone, Debug)]
+pub struct Served {
+    pub path: PathBuf,
+    pub pack: Pack,
+}
 
 #[derive(Debug)]
 pub struct Study {
     pub design: Design,
-    frames: HashMap<String, Frames>,
+    /// Stimulus id -> its encoded video.
+    videos: BTreeMap<String, Served>,
     pub video: Video,
     pub playback: PlaybackInfo,
     pub keys: Keys,
     pub min_window_px: [u32; 2],
+    pub client: ClientSettings,
+    /// What loading encoded (a first start encodes every video; later ones reuse them).
+    pub encoded: Encoded,
 }
 
 impl Study {
-    /// Read the design's manifest; every stimulus the design shows must be in it, with one size
-    /// and frame count (the browser lays out and preloads one kind of video).
-    pub fn load(design: Design) -> Result<Self> {
-        let manifest = renderer::manifest::Manifest::load(&design.manifest_path)?;
-        let mut frames = HashMap::new();
-        let mut video: Option<Video> = None;
-        for needed in crate::preflight::needed_stimuli(&design) {
-            let source = VideoSource::from_manifest(&manifest, &design.manifest_path, &needed.id)?
-                .played_by(&design);
-            let this = Video {
-                width: source.width,
-                height: source.height,
-                fps: source.fps,
-                frames: source.frames(),
-            };
-            match &video {
-                Some(v) if *v != this => bail!(
-                    "{}: stimulus {} is {}x{}, {} frames at {} fps, but others are {}x{}, {} \
-                     frames at {} fps; a web session shows one size of video",
-                    design.manifest_path.display(),
-                    needed.id,
-                    this.width,
-                    this.height,
-                    this.frames,
-                    this.fps,
-                    v.width,
-                    v.height,
-                    v.frames,
-                    v.fps
-                ),
-                _ => video = Some(this),
-            }
-            frames.insert(needed.id, Frames::from(source.frame_paths));
-        }
-        let Some(video) = video else {
+    /// Read the design's manifest and encode (or reuse) every video it shows; every stimulus
+    /// must be in the manifest, with one size and frame count (the browser lays out one kind of
+    /// video). `progress(k, n, id)` is told each video as its encoding starts.
+    pub fn load(
+        design: Design,
+        client: ClientSettings,
+        progress: &mut dyn FnMut(usize, usize, &str),
+    ) -> Result<Self> {
+        let sources = sources(&design)?;
+        let Some(first) = sources.first() else {
             bail!("{}: the design shows no stimuli", design.path.display());
         };
+        let video = Video {
+            width: first.width,
+            height: first.height,
+            fps: first.fps,
+            frames: first.frames(),
+        };
+        let mut cache = Cache::open(&design.manifest_path)?;
+        let encoded = cache.ensure(&sources, progress)?;
+        let videos = sources
+            .iter()
+            .map(|s| {
+                let pack = cache.get(&s.id).expect("ensured above").clone();
+                let served = Served {
+                    path: cache.path(&pack),
+                    pack,
+                };
+                (s.id.clone(), served)
+            })
+            .collect();
         let p = &design.file.playback;
         let spacing = p.spacing_px;
         let min_window_px = match design.file.layout {
@@ -85,18 +88,51 @@ impl Study {
             },
             min_window_px,
             video,
-            frames,
+            videos,
+            client,
+            encoded,
             design,
         })
     }
 
-    /// The frame files of stimulus `id` (an id from the design's trial list).
-    pub fn frames(&self, id: &str) -> Option<Frames> {
-        self.frames.get(id).cloned()
+    /// The encoded video of stimulus `id` (an id from the design's trial list).
+    pub fn video_of(&self, id: &str) -> Option<&Served> {
+        self.videos.get(id)
     }
 
-    /// Every frame file the study can serve (for the byte counts in docs and the benchmark).
-    pub fn all_frames(&self) -> impl Iterator<Item = (&str, &Frames)> {
-        self.frames.iter().map(|(k, v)| (k.as_str(), v))
+    /// Every video the study can serve, by stimulus id.
+    pub fn videos(&self) -> impl Iterator<Item = (&str, &Served)> {
+        self.videos.iter().map(|(k, v)| (k.as_str(), v))
     }
+}
+
+/// The frame files of every stimulus the design shows, checked to be one size of video.
+pub fn sources(design: &Design) -> Result<Vec<VideoSource>> {
+    let manifest = renderer::manifest::Manifest::load(&design.manifest_path)?;
+    let mut out: Vec<VideoSource> = Vec::new();
+    for needed in crate::preflight::needed_stimuli(design) {
+        let source = VideoSource::from_manifest(&manifest, &design.manifest_path, &needed.id)?
+            .played_by(design);
+        if let Some(v) = out.first()
+            && (v.width, v.height, v.frames(), v.fps)
+                != (source.width, source.height, source.frames(), source.fps)
+        {
+            bail!(
+                "{}: stimulus {} is {}x{}, {} frames at {} fps, but others are {}x{}, {} \
+                     frames at {} fps; a web session shows one size of video",
+                design.manifest_path.display(),
+                needed.id,
+                source.width,
+                source.height,
+                source.frames(),
+                source.fps,
+                v.width,
+                v.height,
+                v.frames(),
+                v.fps
+            );
+        }
+        out.push(source);
+    }
+    Ok(out)
 }

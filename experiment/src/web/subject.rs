@@ -1,18 +1,17 @@
 //! One subject's session on the server: the [`Session`] machine over a synced [`FileLog`], the
 //! claim of the one tab that may answer, the idempotency record of acknowledged answers and the
-//! current trial's opaque frame handles. Everything here is synchronous (it writes and syncs the
-//! log): the HTTP layer calls it on tokio's blocking threads.
+//! subject's opaque video ids. Everything here is synchronous (it writes and syncs the log): the
+//! HTTP layer calls it on tokio's blocking threads.
 
 use super::error::ApiError;
-use super::study::{Frames, Study};
-use super::tokens::new_token;
+use super::study::Study;
 use super::wire::{Ack, Answer, AnswerReply, DisplayFacts, Feedback, Progress, State, TrialView};
 use crate::log::{BrowserDisplay, Display, SessionLog, Side};
 use crate::log_writer::Durability;
 use crate::session::{Session, Stage, StartInfo, Timing};
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// A claim lapses after this long without a call from its tab; a reload then takes over.
@@ -20,9 +19,33 @@ pub const LEASE: Duration = Duration::from_secs(20);
 
 pub const OTHER_TAB: &str = "this session is open in another tab or window";
 
-/// The current trial's handles: `handle -> frames`. Shared with the frame route, which must not
-/// wait for a log sync to look one up.
-pub type Handles = Arc<Mutex<HashMap<String, Frames>>>;
+/// A subject's names for the study's videos, both ways: `id -> stimulus` (the video route) and
+/// `stimulus -> id` (the state). Fixed for the session; shared with the video route, which must
+/// not wait for a log sync to look one up.
+#[derive(Debug, Default)]
+pub struct VideoIds {
+    pub stimulus_of: HashMap<String, String>,
+    pub id_of: HashMap<String, String>,
+}
+
+impl VideoIds {
+    /// The ids subject `token` sees (`video_ids::session_id`), or with `shared` the study's
+    /// export names, the same for every subject (videos on a static server).
+    pub fn new(study: &Study, key: &str, token: &str, shared: bool) -> Self {
+        let mut ids = Self::default();
+        for (stimulus, served) in study.videos() {
+            let sha = &served.pack.sha256;
+            let id = if shared {
+                super::video_ids::export_name(key, sha)
+            } else {
+                super::video_ids::session_id(key, token, sha)
+            };
+            ids.stimulus_of.insert(id.clone(), stimulus.to_string());
+            ids.id_of.insert(stimulus.to_string(), id);
+        }
+        ids
+    }
+}
 
 #[derive(Debug)]
 struct Lease {
@@ -56,21 +79,13 @@ pub struct Subject {
     /// Every acknowledged answer: (practice, index) -> correct.
     answered: HashMap<(bool, u32), bool>,
     lease: Option<Lease>,
-    /// The trial the handles belong to.
-    handles_for: Option<(bool, u32)>,
-    pub handles: Handles,
-    /// The current trial's handles as `pairs[pair - 1][left, right]`.
-    order: [[String; 2]; 2],
+    pub videos: Arc<VideoIds>,
     first_answer: Option<Instant>,
     run_answers: u32,
 }
 
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|e| e.into_inner())
-}
-
 impl Subject {
-    pub fn new(name: &str, sessions_dir: &std::path::Path) -> Self {
+    pub fn new(name: &str, sessions_dir: &std::path::Path, videos: Arc<VideoIds>) -> Self {
         Self {
             name: name.to_string(),
             log_path: sessions_dir.join(format!("{name}.jsonl")),
@@ -78,9 +93,7 @@ impl Subject {
             started: false,
             answered: HashMap::new(),
             lease: None,
-            handles_for: None,
-            handles: Handles::default(),
-            order: Default::default(),
+            videos,
             first_answer: None,
             run_answers: 0,
         }
@@ -356,16 +369,12 @@ impl Subject {
         } else {
             None
         };
-        let view = trial.map(|t| {
-            if self.handles_for != Some((t.practice, t.index)) {
-                self.new_handles(study, &t);
-            }
-            TrialView {
-                practice: t.practice,
-                index: t.index,
-                pairs: self.order.clone(),
-            }
+        let view = trial.map(|t| TrialView {
+            practice: t.practice,
+            index: t.index,
+            pairs: [1u8, 2].map(|p| [Side::Left, Side::Right].map(|s| self.id(t.video(p, s)))),
         });
+        let ahead = self.ahead(study, session);
         State {
             phase: phase.into(),
             session: 1,
@@ -380,35 +389,39 @@ impl Subject {
                 planned,
             },
             trial: view,
+            ahead,
+            client: study.client.clone(),
             message,
         }
     }
-}
 
-impl Subject {
-    /// Fresh random handles for the four video places of trial `t`; the last trial's handles
-    /// stop working. A handle is 128 random bits: it says nothing of the video behind it, and
-    /// two places showing the same reference video get different handles.
-    fn new_handles(&mut self, study: &Study, t: &crate::trials::Trial) {
-        let mut map = HashMap::new();
-        let mut order: [[String; 2]; 2] = Default::default();
-        for (p, pair) in [1u8, 2].into_iter().enumerate() {
-            for (s, side) in [Side::Left, Side::Right].into_iter().enumerate() {
-                // The OS random source failing is not something a subject can act on; a
-                // handle from the thread RNG (also a CSPRNG) keeps the session going.
-                let handle = new_token().unwrap_or_else(|_| {
-                    use rand::Rng;
-                    format!("{:032x}", rand::rng().random::<u128>())
-                });
-                if let Some(frames) = study.frames(t.video(pair, side)) {
-                    map.insert(handle.clone(), frames);
+    /// The id this subject sees for stimulus `id` (every stimulus a trial shows has one).
+    fn id(&self, stimulus: &str) -> String {
+        self.videos.id_of.get(stimulus).cloned().unwrap_or_default()
+    }
+
+    /// Ids of the next trials' videos that the current trial does not show, first needed first.
+    fn ahead(&self, study: &Study, session: &Session) -> Vec<String> {
+        let n = study.client.fetch_ahead_trials as usize;
+        let upcoming = session.upcoming(n + 1);
+        // At a trial, the first upcoming trial is the current one; at a screen, the next one.
+        let (current, rest): (Vec<String>, &[crate::trials::Trial]) =
+            match (session.trial(), upcoming.split_first()) {
+                (Some(_), Some((now, rest))) => {
+                    (now.stimuli().iter().map(|s| self.id(s)).collect(), rest)
                 }
-                order[p][s] = handle;
+                _ => (Vec::new(), &upcoming[..]),
+            };
+        let mut out: Vec<String> = Vec::new();
+        for t in rest.iter().take(n) {
+            for s in t.stimuli() {
+                let id = self.id(s);
+                if !current.contains(&id) && !out.contains(&id) {
+                    out.push(id);
+                }
             }
         }
-        *lock(&self.handles) = map;
-        self.order = order;
-        self.handles_for = Some((t.practice, t.index));
+        out
     }
 }
 

@@ -50,6 +50,10 @@ pub struct Tokens {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub open: Option<OpenEnrolment>,
     pub subjects: Vec<SubjectToken>,
+    /// Keys the videos' ids and export names (`video_ids.rs`); made at the first start that
+    /// needs it (older files have none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub video_key: Option<String>,
 }
 
 impl Tokens {
@@ -81,7 +85,16 @@ impl Tokens {
             admin: new_token()?,
             open: None,
             subjects: Vec::new(),
+            video_key: None,
         })
+    }
+
+    /// The study's video key, made now if the file had none (save the tokens to keep it).
+    pub fn video_key(&mut self) -> Result<String> {
+        if self.video_key.is_none() {
+            self.video_key = Some(new_token()?);
+        }
+        Ok(self.video_key.clone().expect("set above"))
     }
 
     pub fn save(&self, out: &Path) -> Result<()> {

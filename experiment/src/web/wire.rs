@@ -1,5 +1,6 @@
 //! The JSON the browser and the server exchange (docs/web.md, "HTTP API"). Nothing here names a
-//! level, point set, scene, stimulus id or which pair differs: the browser sees opaque handles.
+//! level, point set, scene, stimulus id or which pair differs: the browser sees opaque video ids
+//! (`video_ids.rs`).
 
 use serde::{Deserialize, Serialize};
 
@@ -16,7 +17,37 @@ pub struct State {
     pub min_window_px: [u32; 2],
     pub progress: Progress,
     pub trial: Option<TrialView>,
+    /// Ids of the videos the next trials show that the current trial does not, in the order
+    /// they are needed: the browser fetches them while this trial plays.
+    pub ahead: Vec<String>,
+    pub client: ClientSettings,
     pub message: Option<String>,
+}
+
+/// How the browser fetches, keeps and decodes videos (`blurlab serve` options).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ClientSettings {
+    /// Frames decoded ahead of the one shown, per video playing (the rest are decoded while
+    /// the video plays).
+    pub lookahead_frames: u32,
+    /// Most encoded bytes the browser keeps (LRU beyond; never the current or next trial's).
+    pub cache_bytes: u64,
+    /// Trials whose videos are fetched ahead.
+    pub fetch_ahead_trials: u32,
+    /// Where videos are fetched: `None` for this server (`/api/s/{token}/video/{id}`), else a
+    /// static server's URL: `{video_base}/{id}.webpframes`.
+    pub video_base: Option<String>,
+}
+
+impl Default for ClientSettings {
+    fn default() -> Self {
+        Self {
+            lookahead_frames: 24,
+            cache_bytes: 4 << 30,
+            fetch_ahead_trials: 4,
+            video_base: None,
+        }
+    }
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -53,7 +84,7 @@ pub struct Progress {
     pub planned: usize,
 }
 
-/// The trial to present: `pairs[p][s]` is the handle of pair `p + 1`'s left (0) or right (1)
+/// The trial to present: `pairs[p][s]` is the video id of pair `p + 1`'s left (0) or right (1)
 /// video. Pair 1 is shown first.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct TrialView {

@@ -1,6 +1,6 @@
 //! A simulated browser for the `blurlab serve` tests and the load benchmark: it claims a link,
-//! posts display facts, leaves screens, fetches every frame of every trial through its handles,
-//! waits a think time and answers with a simulated observer, retrying with back-off through
+//! posts display facts, leaves screens, fetches each video it is shown once (the current trial's,
+//! then those of the next trials, as the browser fetches ahead), waits a think time and answers with a simulated observer, retrying with back-off through
 //! dropped connections and server restarts (the same answer again: the server acknowledges it
 //! once). The observer answers a shadow session (same design, same subject, a memory log) that
 //! follows the server's: the browser itself never learns what a trial shows.
@@ -60,6 +60,8 @@ pub fn config(
         enrol: Some(enrol),
         open_enrolment: None,
         base_url: None,
+        client: Default::default(),
+        limits: Default::default(),
     }
 }
 
@@ -79,8 +81,11 @@ pub struct Outcome {
     pub acked: Vec<(bool, u32, u8)>,
     /// Milliseconds from sending an answer to its acknowledgement (first try that got one).
     pub ack_ms: Vec<f64>,
-    pub frame_bytes: u64,
-    pub frames: u64,
+    pub video_bytes: u64,
+    /// Videos fetched (each distinct one once, unless a fetch failed).
+    pub videos: u64,
+    /// Ids fetched so far.
+    pub fetched: std::collections::HashSet<String>,
     /// Requests that failed and were tried again (connection refused during a restart...).
     pub retries: u32,
 }
@@ -216,24 +221,25 @@ impl SimBrowser {
         Ok(st)
     }
 
-    /// Fetch every frame of the trial; false if a handle is gone (the server restarted).
-    async fn fetch_frames(&self, st: &State, out: &mut Outcome) -> bool {
+    /// Fetch the trial's videos and the next trials' (each id once); false if one fails.
+    async fn fetch_videos(&self, st: &State, out: &mut Outcome) -> bool {
         let Some(t) = &st.trial else { return true };
-        for pair in &t.pairs {
-            for h in pair {
-                for n in 0..st.video.frames {
-                    let url = self.url(&format!("frame/{h}/{n}"));
-                    match self.http.get(&url).send().await {
-                        Ok(r) if r.status() == 200 => match r.bytes().await {
-                            Ok(b) => {
-                                out.frame_bytes += b.len() as u64;
-                                out.frames += 1;
-                            }
-                            Err(_) => return false,
-                        },
-                        _ => return false,
+        let ids: Vec<&String> = t.pairs.iter().flatten().chain(st.ahead.iter()).collect();
+        for id in ids {
+            if out.fetched.contains(id) {
+                continue;
+            }
+            let url = self.url(&format!("video/{id}"));
+            match self.http.get(&url).send().await {
+                Ok(r) if r.status() == 200 => match r.bytes().await {
+                    Ok(b) => {
+                        out.video_bytes += b.len() as u64;
+                        out.videos += 1;
+                        out.fetched.insert(id.clone());
                     }
-                }
+                    Err(_) => return false,
+                },
+                _ => return false,
             }
         }
         true
@@ -293,7 +299,7 @@ impl SimBrowser {
                         (view.practice, view.index),
                         (shadow_trial.practice, shadow_trial.index)
                     );
-                    if !self.fetch_frames(&st, &mut out).await {
+                    if !self.fetch_videos(&st, &mut out).await {
                         out.retries += 1;
                         tokio::time::sleep(Duration::from_millis(100)).await;
                         st = self.sync(&mut out).await?;
