@@ -200,8 +200,8 @@ impl Budget {
                 self.distinct_videos
             ),
             format!(
-                "bytes a session: {at_most}{} (lossless WebP, each video once; PNG frames per \
-                 trial: {})",
+                "bytes a session: {at_most}{} (lossless WebP, each video once; as PNG frames \
+                 fetched for every trial: {})",
                 gb(self.session_bytes),
                 gb(self.session_png_bytes)
             ),

@@ -151,9 +151,11 @@ pub fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Names, sizes and modification times of a video's frame files, hashed.
+/// Names, sizes and modification times of a video's frame files and the encoder's settings,
+/// hashed: a pack is reused only for the same frames encoded the same way.
 fn fingerprint(v: &VideoSource) -> Result<String> {
     let mut h = Sha256::new();
+    h.update(format!("libwebp lossless method {METHOD} quality {QUALITY}").as_bytes());
     for p in &v.frame_paths {
         let m = std::fs::metadata(p).with_context(|| format!("cannot read {}", p.display()))?;
         let mtime = m
@@ -284,6 +286,47 @@ mod tests {
         pack[0] = b'X';
         assert!(split(&pack).is_err(), "not RIFF");
         assert!(split(&[]).unwrap().is_empty());
+    }
+
+    #[test]
+    fn packs_are_reused_until_a_frame_changes_and_hold_the_pngs_pixels() {
+        let dir = tempfile::tempdir().unwrap();
+        let study =
+            crate::fixture::write_study(dir.path(), &crate::fixture::StudySpec::tiny()).unwrap();
+        let design = crate::Design::load(&study.design_path).unwrap();
+        let videos = crate::web::study::sources(&design).unwrap();
+        let mut cache = Cache::open(&design.manifest_path).unwrap();
+        let first = cache.ensure(&videos, &mut |_, _, _| {}).unwrap();
+        assert_eq!((first.encoded, first.reused), (videos.len(), 0));
+        let again = Cache::open(&design.manifest_path)
+            .unwrap()
+            .ensure(&videos, &mut |_, _, _| {})
+            .unwrap();
+        assert_eq!((again.encoded, again.reused), (0, videos.len()));
+        // A re-rendered frame (a new modification time) is encoded again; the pack holds it.
+        let v = &videos[0];
+        let later = std::time::SystemTime::now() + std::time::Duration::from_secs(5);
+        std::fs::File::options()
+            .write(true)
+            .open(&v.frame_paths[2])
+            .unwrap()
+            .set_modified(later)
+            .unwrap();
+        let mut cache = Cache::open(&design.manifest_path).unwrap();
+        let after = cache.ensure(&videos, &mut |_, _, _| {}).unwrap();
+        assert_eq!((after.encoded, after.reused), (1, videos.len() - 1));
+        let pack = cache.get(&v.id).unwrap();
+        let bytes = std::fs::read(cache.path(pack)).unwrap();
+        assert_eq!(pack.bytes, bytes.len() as u64);
+        let ranges = split(&bytes).unwrap();
+        assert_eq!(ranges.len(), v.frame_paths.len());
+        for (r, path) in ranges.iter().zip(&v.frame_paths) {
+            let got = image::load_from_memory(&bytes[r.clone()])
+                .unwrap()
+                .into_rgb8();
+            let want = image::open(path).unwrap().into_rgb8();
+            assert_eq!(got.as_raw(), want.as_raw(), "{}", path.display());
+        }
     }
 
     #[test]
