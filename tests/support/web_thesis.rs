@@ -59,13 +59,14 @@ async fn a_thesis_sized_design_plays_exact_in_bounded_memory_without_dropped_fra
     if !browser_available() {
         return;
     }
+    // Rendering, encoding and decoding 768x768 frames need the cores: no other browser test
+    // runs meanwhile (their blind-spot polls and frame timing would starve).
+    let _alone = ALONE.write().await;
     let dir = tempfile::tempdir().unwrap();
     let study = thesis_sized(dir.path());
     let t0 = Instant::now();
     let served = serve(&study.design_path, &dir.path().join("out"), 1).await;
     eprintln!("videos encoded in {:.1} s", t0.elapsed().as_secs_f64());
-    // Decoding 768x768 frames at 30 fps needs the cores: no other browser test plays meanwhile.
-    let _alone = ALONE.write().await;
     let b = Browser::start_sized(1.0, [1700, 900]).await;
     let sampler = PssSampler::start(b.driver.id());
     b.client.goto(&served.links[0]).await.unwrap();

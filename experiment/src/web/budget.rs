@@ -243,3 +243,69 @@ fn minutes(secs: f64) -> String {
         format!("{secs:.0} s")
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A thesis-sized session: 768x768, 210 frames, 48 videos of 40 MB, lookahead 24.
+    fn thesis_like() -> Budget {
+        let frame = 768 * 768 * 4;
+        Budget {
+            trials: 196,
+            distinct_videos: 48,
+            exact: true,
+            session_bytes: 48 * 40_000_000,
+            session_png_bytes: 45_000_000_000,
+            trial_encoded_bytes: 80_000_000,
+            decoded_bytes: 2 * 25 * frame,
+            width: 768,
+            height: 768,
+            frames: 210,
+            lookahead_frames: 24,
+            cache_bytes: 4_000_000_000,
+            limits: Limits::default(),
+        }
+    }
+
+    #[test]
+    fn a_thesis_sized_session_passes_without_warnings() {
+        let b = thesis_like();
+        assert_eq!(b.refusal(), None);
+        assert!(b.warnings().is_empty(), "{:?}", b.warnings());
+        assert!(
+            b.lines().iter().any(|l| l.contains("1.92 GB")),
+            "{:?}",
+            b.lines()
+        );
+    }
+
+    #[test]
+    fn over_budget_warns_and_a_trial_no_browser_holds_is_refused_with_what_fits() {
+        let mut b = thesis_like();
+        b.session_bytes = 5_000_000_000;
+        b.limits.memory_bytes = 100_000_000;
+        let w = b.warnings();
+        assert_eq!(w.len(), 3, "{w:?}");
+        assert!(w[0].contains("--budget-gb") && w[1].contains("--lookahead-frames"));
+        assert!(w[2].contains("fetched again"));
+        // Encoded videos of 2 GB a trial: over 3 GiB with the decoded frames.
+        b.trial_encoded_bytes = 3_300_000_000;
+        let why = b.refusal().expect("refused");
+        assert!(
+            why.contains("`overrides.frames` <= ") && why.contains("smaller size"),
+            "{why}"
+        );
+        let frames: f64 = why
+            .split("`overrides.frames` <= ")
+            .nth(1)
+            .and_then(|s| s.split(')').next())
+            .and_then(|s| s.parse().ok())
+            .expect("a frame count");
+        assert!(frames < 210.0 && frames > 150.0, "{why}");
+        // A cache smaller than a trial is refused too.
+        let mut b = thesis_like();
+        b.cache_bytes = 50_000_000;
+        assert!(b.refusal().unwrap().contains("--cache-mb"));
+    }
+}
