@@ -1,7 +1,7 @@
 //! A video's prediction from predictions of single frames spread over it.
 //!
 //! Rendering every frame of the thesis's 210-frame video at 768 x 768 and eight levels is
-//! beyond the shared machine, so `scenes/jobs/thesis_full_fNNN.json` render one frame each and
+//! beyond the shared machine, so the sets of `scenes/replication/sweep.txt` render one frame and
 //! `blurlab predict` predicts each such set alone. This file combines those predictions, as
 //! [`super::pooling::video_q`] pools a video's frames: per condition and level,
 //! d'_video = (mean_f d'_f^beta)^(1/beta) over the frames f, with the model's time exponent beta
