@@ -112,7 +112,7 @@ pub fn run(args: &DemoOptions, progress: DemoProgress) -> Result<DemoOutput> {
             design: Some(root.join(DESIGN)),
             out: Some(out.join("predict")),
             // decision None: the stage the demo design's layout gets (sequential: the
-            // side-by-side stage, analysis::predict::stage).
+            // side-by-side stage, analysis::predict::stage_choice).
             ..analysis::predict::options::PredictOptions::new(stimuli.clone())
         },
         progress.predict,

@@ -22,14 +22,15 @@
 //!    Gaussian aperture of sd s (the standard observer's), D is weighted by
 //!    w(x) = exp(-r^2 / (2 s^2)) before the power; the window is centred on ModelFest's stimuli
 //!    (their fixation mark) and, in the suite's videos, frame by frame where the windowed sum is
-//!    largest ([`Placement`]). beta and s are fitted to ModelFest ([`super::modelfest`],
-//!    [`FITTED`]);
+//!    largest ([`Placement`]). beta and s are fitted to ModelFest ([`modelfest`], [`FITTED`]);
 //! 3. time, the same exponent as a mean over the video's frames: Q = (mean_t Q_t^beta)^(1/beta).
 //!    A trial loops its videos, so the mean is the Minkowski integral over a fixed window of
 //!    the loop (the window's length is a constant that k holds); ModelFest's presentation is
 //!    shown as a 1 s video holding the whole 0.5 s time course, so its mean is the integral
 //!    over the presentation. ModelFest's stimuli share one time course, so they cannot fit a
 //!    separate temporal exponent: one exponent serves both (documented in docs/predict.md).
+//!
+//! [`modelfest`]: crate::observer::datasets::modelfest
 
 /// How the visible difference is pooled: the two exponents and the spatial aperture.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -42,9 +43,10 @@ pub struct Pooling {
     pub aperture_deg: f64,
 }
 
-/// The pooling fitted, with [`super::decision::DEFAULT_K`] and [`super::shape::FITTED`], to
-/// the 43 ModelFest thresholds by least squares on log thresholds (`blurlab predict validate
-/// modelfest`).
+/// The pooling fitted, with [`DEFAULT_K`] and [`super::shape::FITTED`], to the 43 ModelFest
+/// thresholds by least squares on log thresholds (`blurlab predict validate modelfest`).
+///
+/// [`DEFAULT_K`]: super::proportion_correct::DEFAULT_K
 pub const FITTED: Pooling = Pooling {
     channels: 2.0,
     space: 2.4,

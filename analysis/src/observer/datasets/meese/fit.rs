@@ -1,11 +1,13 @@
 //! The decision stages against human masking data: Meese et al. 2007's cross-orientation
-//! masking ([`super::meese`]) predicted by each stage, and the errors in dB, of the threshold
+//! masking ([`super`]) predicted by each stage, and the errors in dB, of the threshold
 //! elevations (the validated figure: what masking does) and of the absolute thresholds (at
 //! ModelFest's presentation, for reference). `blurlab predict validate meese2007`.
 
-use super::meese::{Line, Series, elevation_rms_db, predict, threshold_rms_db};
-use super::orientation::{ORIENTATIONS, OrientationMasking};
-use super::video::{Comparison, Filters};
+use super::{Line, Series, elevation_rms_db, filters, predict, rms_db, threshold_rms_db};
+use crate::observer::model::decision_stage::SideBySide;
+use crate::observer::model::orientation::{ORIENTATIONS, OrientationMasking};
+use crate::observer::model::pooling::FITTED;
+use crate::observer::model::video::Filters;
 use anyhow::Result;
 use renderer::progress::Progress;
 use std::fmt::Write as _;
@@ -30,13 +32,22 @@ pub fn stages() -> Vec<Model<'static>> {
     vec![
         Model {
             name: "difference".into(),
-            make: Box::new(|| super::meese::filters(Comparison::Difference, None)),
+            make: Box::new(|| filters(None)),
         },
         Model {
             name: "side-by-side (pooled)".into(),
-            make: Box::new(|| super::meese::filters(Comparison::SideBySide, None)),
+            make: Box::new(|| side_by_side(None)),
         },
     ]
+}
+
+/// The committed side-by-side stage with the orientation channels `orientation` (`None`:
+/// pooled over orientation before the comparison).
+fn side_by_side(orientation: Option<OrientationMasking>) -> Result<Filters> {
+    filters(Some(SideBySide {
+        orientation,
+        ..SideBySide::committed(FITTED.space)
+    }))
 }
 
 /// The cross-orientation weights searched: 0 (masking within orientation only), then
@@ -50,13 +61,10 @@ pub fn fit_cross_weight(
     progress: &dyn Progress,
 ) -> Result<ParameterFit> {
     let make = |w: f64| {
-        super::meese::filters(
-            Comparison::SideBySide,
-            Some(OrientationMasking {
-                orientations: ORIENTATIONS,
-                cross_weight: w,
-            }),
-        )
+        side_by_side(Some(OrientationMasking {
+            orientations: ORIENTATIONS,
+            cross_weight: w,
+        }))
     };
     fit_parameter(
         series,
@@ -103,7 +111,7 @@ pub struct ParameterFit {
 impl ParameterFit {
     /// The leave-one-out RMS error of the elevations, dB.
     pub fn loo_rms_db(&self) -> f64 {
-        super::meese::rms_db(self.left_out.iter().copied())
+        rms_db(self.left_out.iter().copied())
     }
 }
 
@@ -127,7 +135,7 @@ pub fn fit_parameter(
         .filter(|&i| runs[0].lines[i].mask > 0.0)
         .collect();
     let error = |r: &Run, skip: Option<usize>| -> f64 {
-        super::meese::rms_db(masked.iter().filter(|&&i| Some(i) != skip).map(|&i| {
+        rms_db(masked.iter().filter(|&&i| Some(i) != skip).map(|&i| {
             (
                 r.lines[i].predicted_elevation,
                 r.lines[i].measured_elevation,
@@ -278,7 +286,7 @@ pub fn fit_markdown(fit: &ParameterFit) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::super::meese::rms_db;
+    use super::*;
 
     #[test]
     fn errors_are_in_decibels_and_a_missing_threshold_counts_as_full_contrast() {

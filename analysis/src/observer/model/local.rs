@@ -1,7 +1,7 @@
 //! Local means: a sum-preserving Gaussian average of an image, the neighbourhood over which the
-//! side-by-side stage ([`super::video::Comparison::SideBySide`]) measures each video's contrast
-//! energy. The Gaussian (sd 0.5 deg, 23 px at the thesis's 46 px/deg) passes nothing above a
-//! few tenths of a cycle per degree, so it is computed on a grid `factor` times coarser: block
+//! side-by-side stage ([`super::decision_stage`]) measures each video's contrast energy. The
+//! Gaussian (sd 0.5 deg, 23 px at the thesis's 46 px/deg) passes nothing above a few tenths
+//! of a cycle per degree, so it is computed on a grid `factor` times coarser: block
 //! means, the Gaussian by FFT, then bilinear interpolation back (periodic). Both steps keep the
 //! image's sum exactly (each coarse sample's interpolation weights over the fine grid sum to
 //! factor^2), which the stage's reduction to detection relies on; the coarse grid costs

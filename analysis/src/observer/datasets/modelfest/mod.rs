@@ -1,7 +1,7 @@
 //! The ModelFest data set (Carney et al. 1999; Watson & Ahumada 2005, JOV 5(9):6): 43 foveal
 //! detection stimuli with 16 observers' thresholds, loaded from the folder layout of
 //! `analysis/tests/data/modelfest/` (its README gives the provenance), and each stimulus run
-//! through the model's own pipeline ([`super::video`]) under ModelFest's viewing conditions.
+//! through the model's own pipeline ([`video`]) under ModelFest's viewing conditions.
 //!
 //! A stimulus is a contrast image c(x) (background 0, peak |c| = 1) shown at peak contrast C
 //! with ModelFest's time course: L(x, t) = L0 (1 + C g(t) c(x)), L0 = 30 cd/m^2, 120 pixels
@@ -10,15 +10,21 @@
 //! time course has no energy above 4 Hz, far below the 15 Hz Nyquist limit) holding one
 //! presentation, against the uniform field L0. On a uniform reference nothing masks and the
 //! local adaptation is L0, so Q grows linearly with C: the model's threshold is the C at which
-//! k Q reaches the 2IFC 84% point ([`super::decision::two_ifc_d_prime_for`]).
+//! k Q reaches the 2IFC 84% point ([`two_ifc_d_prime_for`]).
+//!
+//! [`video`]: crate::observer::model::video
+//! [`two_ifc_d_prime_for`]: crate::observer::model::proportion_correct::two_ifc_d_prime_for
 
-use super::pooling::{ChannelSums, Grid, Placement, Pooling};
-use super::shape::Shape;
-use super::video::{Filters, Viewing, frame_differences};
+use crate::observer::model::pooling::{ChannelSums, Grid, Placement, Pooling, video_q};
+use crate::observer::model::shape::Shape;
+use crate::observer::model::video::linear::Linear;
+use crate::observer::model::video::{Filters, Viewing, frame_differences};
 use anyhow::{Context, Result, bail};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+pub mod fit;
 
 /// Mean luminance of the ModelFest display, cd/m^2.
 pub const MEAN_LUMINANCE: f64 = 30.0;
@@ -222,22 +228,22 @@ pub fn viewing(s: &Stimulus) -> Viewing {
 }
 
 /// Q per unit peak contrast of a stimulus for every pooling of `grid` and CSF shape of
-/// `shapes`, in the order of [`super::validate::params`] (channel exponent, shape, space
+/// `shapes`, in the order of [`fit::params`] (channel exponent, shape, space
 /// exponent, aperture).
 ///
 /// The stimulus is a static image times a time course on a uniform field, where nothing
 /// masks and the local adaptation is L0: every stage before the pooling is linear and
 /// separable, d_{b,k}(x, t) = g_k(t) d_{b,k}(x), g_k the time course through channel k. So
-/// each band is filtered once rather than at every frame ([`Filters::static_bands`]); the
+/// each band is filtered once rather than at every frame ([`Linear::static_bands`]); the
 /// result is the pipeline's ([`frame_differences`]) to float rounding (test below), at a
 /// thirtieth of the transforms, which is what lets the fit search a grid of shapes.
 pub fn response(s: &Stimulus, grid: &Grid, shapes: &[Shape]) -> Result<Vec<f64>> {
     let mut out = Vec::new();
     for &channels in &grid.channels {
         for &shape in shapes {
-            let mut filters = Filters::new(viewing(s), channels, shape)?;
-            let bands = filters.static_bands(&s.contrast);
-            let [gs, gt] = filters.time_courses(time_course);
+            let mut linear = Linear::new(viewing(s), channels, shape)?;
+            let bands = linear.static_bands(&s.contrast);
+            let [gs, gt] = linear.time_courses(time_course);
             let one = Grid {
                 channels: vec![channels],
                 ..grid.clone()
@@ -256,7 +262,7 @@ pub fn response(s: &Stimulus, grid: &Grid, shapes: &[Shape]) -> Result<Vec<f64>>
                 .collect();
             for (i, p) in one.space_pairs(channels).iter().enumerate() {
                 let q: Vec<f64> = per_frame.iter().map(|f| f[i]).collect();
-                out.push(super::pooling::video_q(&q, p.space));
+                out.push(video_q(&q, p.space));
             }
         }
     }
@@ -289,7 +295,7 @@ pub fn response_by_frames_in(
         Ok((test, background.clone()))
     })?;
     let q: Vec<f64> = per_frame.iter().map(|f| f[0]).collect();
-    Ok(super::pooling::video_q(&q, pooling.space) / PROBE_CONTRAST)
+    Ok(video_q(&q, pooling.space) / PROBE_CONTRAST)
 }
 
 #[cfg(test)]
@@ -324,7 +330,7 @@ mod tests {
             apertures: vec![f64::INFINITY, 0.1],
         };
         let shapes = [
-            super::super::shape::NONE,
+            crate::observer::model::shape::NONE,
             Shape {
                 narrowing: 0.05,
                 centre_cpd: 8.0,
@@ -335,7 +341,7 @@ mod tests {
             },
         ];
         let fast = response(&s, &grid, &shapes).unwrap();
-        let params = super::super::validate::params(&grid, &shapes);
+        let params = super::fit::params(&grid, &shapes);
         assert_eq!(fast.len(), params.len());
         for (p, q) in params.iter().zip(&fast) {
             let slow = response_by_frames(&s, p.pooling, p.shape).unwrap();

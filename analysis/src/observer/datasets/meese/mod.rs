@@ -14,17 +14,20 @@
 //! figure is the threshold elevation T / T0 (masked over unmasked threshold): the paper's
 //! presentation (duration, time course) is not ModelFest's, which offsets absolute thresholds
 //! but not their ratio. Absolute thresholds are reported too, at ModelFest's presentation:
-//! the unmasked threshold from ModelFest's time course ([`super::modelfest::response`]), times
+//! the unmasked threshold from ModelFest's time course ([`modelfest::response`]), times
 //! the static frame's elevation.
 
-use super::decision::{CRITERION, DEFAULT_K, two_ifc_d_prime_for};
-use super::modelfest::MEAN_LUMINANCE;
-use super::orientation::OrientationMasking;
-use super::pooling::{FITTED, Grid, Placement};
-use super::video::{Comparison, Filters, Viewing, frame_differences};
+use super::modelfest::{self, MEAN_LUMINANCE};
+use crate::observer::model::decision_stage::SideBySide;
+use crate::observer::model::pooling::{FITTED, Grid, Placement};
+use crate::observer::model::proportion_correct::{CRITERION, DEFAULT_K, two_ifc_d_prime_for};
+use crate::observer::model::shape;
+use crate::observer::model::video::{Filters, Viewing, frame_differences};
 use anyhow::{Context, Result, bail};
 use serde::Deserialize;
 use std::path::Path;
+
+pub mod fit;
 
 /// Pixels per degree of the model's frames: 8.6 pixels per cycle at 7 c/deg, and a quarter of
 /// the pixels ModelFest's 120 would take (the validation searches many thresholds).
@@ -208,20 +211,20 @@ pub fn viewing() -> Viewing {
         width: SIDE,
         height: SIDE,
         frames: 1,
-        fps: super::modelfest::FPS,
+        fps: modelfest::FPS,
         pixels_per_degree: PIXELS_PER_DEGREE,
         mean_luminance: MEAN_LUMINANCE,
     }
 }
 
-/// The model's filters for these frames with the decision stage `comparison` (the committed
-/// pooling, CSF shape and knee) and the side-by-side stage's orientation masking.
-pub fn filters(comparison: Comparison, orientation: Option<OrientationMasking>) -> Result<Filters> {
-    Ok(
-        Filters::new(viewing(), FITTED.channels, super::shape::FITTED)?
-            .comparing(comparison, FITTED.space)
-            .orientation_masking(orientation),
-    )
+/// The model's filters for these frames (the committed pooling and CSF shape) with the
+/// side-by-side stage set as `side_by_side`, or `None`: the difference stage.
+pub fn filters(side_by_side: Option<SideBySide>) -> Result<Filters> {
+    let f = Filters::new(viewing(), FITTED.channels, shape::FITTED)?;
+    Ok(match side_by_side {
+        Some(s) => f.side_by_side(s),
+        None => f,
+    })
 }
 
 /// d' = k Q of the pair (mask + target, mask).
@@ -299,15 +302,15 @@ pub struct Line {
 }
 
 /// The unmasked threshold of a patch at ModelFest's presentation (time course, 1 s video),
-/// from the model's separable detection response ([`super::modelfest::response`]).
+/// from the model's separable detection response ([`modelfest::response`]).
 fn presented_threshold(cpd: f64) -> Result<f64> {
     // ModelFest's viewing is 120 px/deg: the same patch in degrees takes twice the pixels.
-    let (side, ppd) = (2 * SIDE, super::modelfest::PIXELS_PER_DEGREE);
+    let (side, ppd) = (2 * SIDE, modelfest::PIXELS_PER_DEGREE);
     let contrast: Vec<f32> = frame_at(cpd, 1.0, 0.0, side, ppd)
         .iter()
         .map(|&l| l / MEAN_LUMINANCE as f32 - 1.0)
         .collect();
-    let s = super::modelfest::Stimulus {
+    let s = modelfest::Stimulus {
         number: 0,
         name: format!("meese {cpd} c/deg"),
         family: "meese".into(),
@@ -317,7 +320,7 @@ fn presented_threshold(cpd: f64) -> Result<f64> {
         measured: f64::NAN,
         observations: 0,
     };
-    let q1 = super::modelfest::response(&s, &Grid::one(FITTED), &[super::shape::FITTED])?[0];
+    let q1 = modelfest::response(&s, &Grid::one(FITTED), &[shape::FITTED])?[0];
     let want = two_ifc_d_prime_for(CRITERION).context("the criterion is inside (0.5, 1)")?;
     Ok(want / (DEFAULT_K * q1))
 }
@@ -484,7 +487,7 @@ mod tests {
     fn the_threshold_search_lands_on_the_criterion() {
         // The difference stage on a blank field is linear in the target's contrast, so the
         // search's answer can be checked in closed form: d'(T) = d'_84 and d'(2T) = 2 d'_84.
-        let mut f = filters(Comparison::Difference, None).unwrap();
+        let mut f = filters(None).unwrap();
         let t = threshold(&mut f, 7.0, 0.0).unwrap().unwrap();
         let want = two_ifc_d_prime_for(CRITERION).unwrap();
         assert!((d_prime(&mut f, 7.0, t, 0.0).unwrap() / want - 1.0).abs() < 1e-4);
@@ -505,12 +508,16 @@ mod tests {
         // 45 deg from the mask's orientation (1.71 on 28 Nov): within the observers' range at
         // this mask (0.85 at 7 c/deg, 2.9 at 1 c/deg), a fifth or less of the pooled.
         let elevation = |orientation| {
-            let mut f = filters(Comparison::SideBySide, orientation).unwrap();
+            let s = SideBySide {
+                orientation,
+                ..SideBySide::committed(FITTED.space)
+            };
+            let mut f = filters(Some(s)).unwrap();
             let t0 = threshold(&mut f, 7.0, 0.0).unwrap().unwrap();
             threshold(&mut f, 7.0, 0.45).unwrap().unwrap() / t0
         };
         let pooled = elevation(None);
-        let apart = elevation(Some(crate::predict::orientation::COMMITTED));
+        let apart = elevation(Some(crate::observer::model::orientation::COMMITTED));
         assert!(pooled > 10.0, "{pooled}");
         assert!(apart > 0.9 && apart < 2.9, "{apart}");
         assert!(pooled > 5.0 * apart, "{pooled} against {apart}");

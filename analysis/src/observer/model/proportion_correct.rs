@@ -1,6 +1,8 @@
-//! The decision models: the two-pair task of the suite's experiment (which pair held the
-//! difference?) and the two-interval forced choice of ModelFest (which interval held the
-//! stimulus?), each with its Monte Carlo simulation.
+//! From the visible difference to proportion correct: d' = k Q, and the proportion correct of
+//! d' in the two-pair task of the suite's experiment (which pair held the difference?) and in
+//! the two-interval forced choice of ModelFest (which interval held the stimulus?), each with
+//! its Monte Carlo simulation. (How the observer compares the two videos to get Q is the
+//! decision stage, [`super::decision_stage`].)
 //!
 //! **Two-pair task.**
 //! Each presentation of a video gives the observer one value on a decision axis: the reference

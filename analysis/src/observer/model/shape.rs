@@ -1,7 +1,9 @@
 //! What ModelFest's observers add to stelaCSF: corrections of the CSF's shape over spatial
 //! frequency and an oblique effect, gains on the CSF weight of each frequency coefficient and
 //! a frequency scale of the CSF itself ([`super::video::Filters::new`]), fitted to ModelFest
-//! with the pooling ([`super::validate`]).
+//! with the pooling ([`fit`]).
+//!
+//! [`fit`]: crate::observer::datasets::modelfest::fit
 //!
 //! stelaCSF was fitted to other data sets; against ModelFest's fixed-envelope Gabors (#1-10,
 //! 1.12-30 cpd) it is too broad: the model saw the ends of the range (1.1 and 30 cpd) 1-3 dB
@@ -58,8 +60,10 @@ pub const NONE: Shape = Shape {
     scale: 1.0,
 };
 
-/// The shape fitted, with [`super::pooling::FITTED`] and [`super::decision::DEFAULT_K`], to the
-/// 43 ModelFest thresholds (`blurlab predict validate modelfest`).
+/// The shape fitted, with [`super::pooling::FITTED`] and [`DEFAULT_K`], to the 43 ModelFest
+/// thresholds (`blurlab predict validate modelfest`).
+///
+/// [`DEFAULT_K`]: super::proportion_correct::DEFAULT_K
 pub const FITTED: Shape = Shape {
     narrowing: 0.0,
     centre_cpd: 4.0,

@@ -1,8 +1,8 @@
 //! The discrimination of suprathreshold contrast energy: how much a local contrast amplitude
 //! must change to be seen, given the amplitude already there. The side-by-side stage
-//! ([`super::video::Comparison::SideBySide`]) passes each video's local amplitude a (the
-//! Minkowski norm of its CSF-weighted band contrasts over a Gaussian neighbourhood,
-//! [`super::video`]) through a transducer R and compares R(a_test) with R(a_reference).
+//! ([`super::decision_stage`]) passes each video's local amplitude a (the Minkowski norm of
+//! its CSF-weighted band contrasts over a Gaussian neighbourhood, [`super::video`]) through a
+//! transducer R and compares R(a_test) with R(a_reference).
 //!
 //! The increment threshold of a pedestal grows with the pedestal once the pedestal is visible:
 //! Legge & Foley (1980, "Contrast masking in human vision", JOSA 70(12):1458-1471) measured
@@ -50,6 +50,16 @@ pub fn respond(a: f32, a0: f32) -> f32 {
 pub fn knee(d84: f64, k: f64, aperture_deg: f64, beta: f64) -> f32 {
     let area = 2.0 * std::f64::consts::PI * aperture_deg * aperture_deg / beta;
     (d84 / (k * area.powf(1.0 / beta))) as f32
+}
+
+/// dR/da of [`respond`], the gain of a local amplitude `a`: 1 up to the knee, (a / a0)^-eps
+/// above.
+pub fn gain(a: f32, a0: f32) -> f32 {
+    if a <= a0 {
+        1.0
+    } else {
+        (a / a0).powf(-EPSILON)
+    }
 }
 
 #[cfg(test)]

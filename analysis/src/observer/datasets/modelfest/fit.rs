@@ -1,23 +1,26 @@
-//! The model against human thresholds: ModelFest's 43 stimuli ([`super::modelfest`]) through
+//! The model against human thresholds: ModelFest's 43 stimuli ([`super`]) through
 //! the model's pipeline, its free parameters fitted by least squares on the log thresholds,
 //! and the error reported overall, per stimulus, per family and leave-one-out.
 //!
-//! Free parameters: the sensitivity constant k (d' = k Q); the pooling ([`super::pooling`]):
-//! beta over space and time and the spatial aperture's size (beta_c over bands and channels is
-//! held at the first pass's fit, [`grid`]); the CSF's shape ([`super::shape`]): the oblique
-//! loss w, the high-frequency roll-off f_h and the frequency scale s (the narrowing c and the
-//! roll-off's power held, [`shapes`]). Everything else is fixed as published
+//! Free parameters: the sensitivity constant k (d' = k Q); the pooling ([`pooling`]): beta
+//! over space and time and the spatial aperture's size (beta_c over bands and channels is held
+//! at the first pass's fit, [`grid`]); the CSF's shape ([`shape`]): the oblique loss w, the
+//! high-frequency roll-off f_h and the frequency scale s (the narrowing c and the roll-off's
+//! power held, [`shapes`]). Everything else is fixed as published
 //! (stelaCSF, the bands, the channels) or as chosen in docs/predict.md. For given parameters
 //! the predicted log sensitivity is log10 S_i = log10 k + log10(Q1_i / d'_84) (Q1 the
 //! response per unit peak contrast, d'_84 the 2IFC 84% point), so the least-squares log10 k is
 //! the mean residual in closed form; the rest is the grid point ([`grid`], [`shapes`]) with
 //! the least squared error. Leave-one-out refits everything without each stimulus and
 //! predicts that one.
+//!
+//! [`pooling`]: crate::observer::model::pooling
+//! [`shape`]: crate::observer::model::shape
 
-use super::decision::{CRITERION, two_ifc_d_prime_for};
-use super::modelfest::{Stimulus, response};
-use super::pooling::{Grid, Pooling};
-use super::shape::Shape;
+use super::{Stimulus, response};
+use crate::observer::model::pooling::{Grid, Pooling};
+use crate::observer::model::proportion_correct::{CRITERION, two_ifc_d_prime_for};
+use crate::observer::model::shape::Shape;
 use anyhow::{Result, bail};
 use rayon::prelude::*;
 use renderer::progress::Progress;
@@ -31,7 +34,7 @@ pub struct Params {
 }
 
 /// Every point of a grid of poolings and shapes, in the order of
-/// [`super::modelfest::response`]: channel exponent, shape, space exponent, aperture.
+/// [`super::response`]: channel exponent, shape, space exponent, aperture.
 pub fn params(grid: &Grid, shapes: &[Shape]) -> Vec<Params> {
     let mut out = Vec::new();
     for &channels in &grid.channels {
@@ -76,7 +79,7 @@ pub fn shapes() -> Vec<Shape> {
                     rolloff_cpd,
                     rolloff_power: 2.0,
                     scale,
-                    ..super::shape::NONE
+                    ..crate::observer::model::shape::NONE
                 });
             }
         }
@@ -364,7 +367,7 @@ mod tests {
                 narrowing,
                 centre_cpd: 4.0,
                 oblique,
-                ..super::super::shape::NONE
+                ..crate::observer::model::shape::NONE
             })
             .to_vec();
         (grid, shapes)
@@ -433,8 +436,8 @@ mod tests {
         assert_eq!(ps[13].shape, shapes()[1]);
         // The committed model is a point of the grid, not on its edge.
         let committed = Params {
-            pooling: super::super::pooling::FITTED,
-            shape: super::super::shape::FITTED,
+            pooling: crate::observer::model::pooling::FITTED,
+            shape: crate::observer::model::shape::FITTED,
         };
         assert!(ps.contains(&committed));
     }

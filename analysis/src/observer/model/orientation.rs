@@ -1,8 +1,8 @@
 //! Orientation channels for the side-by-side stage's masking: each spatial band split into K
 //! orientation channels, so that a masker of one orientation masks mostly its own (Meese et
-//! al. 2007's cross-orientation masking, [`super::meese`]: an orthogonal grating of 45%
-//! contrast raises a grating's threshold about 3x at 1 c/deg and not at all at 7 c/deg, where
-//! masking pooled over every orientation of the band raises it about 50x).
+//! al. 2007's cross-orientation masking, [`meese`]: an orthogonal grating of 45% contrast
+//! raises a grating's threshold about 3x at 1 c/deg and not at all at 7 c/deg, where masking
+//! pooled over every orientation of the band raises it about 50x).
 //!
 //! Windows: raised cosines in orientation theta (mod 180 deg), centred at o 180 / K deg,
 //!
@@ -24,6 +24,8 @@
 //! channel ([`super::video`]). w = 0 masks within orientation only, w = 1 with every
 //! orientation alike. w is the one parameter fitted, to Meese's elevations
 //! (`blurlab predict validate meese2007`, [`COMMITTED`]).
+//!
+//! [`meese`]: crate::observer::datasets::meese
 
 /// The orientation split and the weight of the other orientations' energy in each channel's
 /// masker.
