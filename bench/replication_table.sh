@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The replication table of docs/replication.md (issue 26), section 3: every `blurlab predict`
-# and `blurlab predict frames` behind its rows, run on the 768 x 768 stimulus sets that
-# scenes/jobs/thesis_*.json render, then the rows printed as Markdown on stdout.
+# The replication table of docs/replication.md, section 3: every `blurlab predict` and
+# `blurlab predict frames` behind its rows, run on the 768 x 768 stimulus sets of the sweep
+# (scenes/replication/sweep.txt: the lines for distance, sky, playback and reading, written as
+# jobs and designs by bench/replication_sets.sh), then the rows printed as Markdown on stdout.
 #
 #   bash bench/replication_table.sh [STIMULI [OUT]]
 #
@@ -12,9 +13,8 @@
 #          observer model changes.
 # BLURLAB  the blurlab binary (default: blurlab on PATH); NICE its niceness (default 15).
 #
-# Needs jq (the playback rows' designs are the committed ones with playback.fps / loops set).
-# A set that is not rendered prints as "not rendered"; which job renders it is in
-# docs/replication.md. The predictions are the observer model's as built into BLURLAB.
+# Needs jq (the playback rows' designs are the sets' own with playback.fps / loops set). A set
+# that is not rendered prints as "not rendered"; how to render them: docs/replication.md. The predictions are the observer model's as built into BLURLAB.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 STIMULI=${1:-stimuli}
@@ -33,13 +33,12 @@ predict() {
         --no-progress "$@" >/dev/null
 }
 
-# variant NAME PLAY: the committed design NAME played at PLAY (a rate in fps, or loops2: its
-# own rate twice), as a file in OUT.
+# variant NAME PLAY: the design of set NAME played at PLAY (a rate in fps, or loops2: its own
+# rate twice), as a file in OUT.
 variant() {
-    local file=$OUT/designs/$1_$2.json filter=".playback.fps = $2"
+    local file=$SETS/$1/design_$2.json filter=".playback.fps = $2"
     [[ $2 == loops2 ]] && filter='.playback.loops = 2'
-    mkdir -p "$OUT/designs"
-    jq "$filter" "scenes/designs/$1.json" >"$file"
+    jq "$filter" "$SETS/$1/design.json" >"$file"
     echo "$file"
 }
 
@@ -64,57 +63,72 @@ cells() {
     echo "${out[0]} / ${out[1]} / ${out[2]}"
 }
 
+# The sweep's lines for question $1, each "name frames scenes point_sets scenes_from shifts
+# reference for" (scenes/replication/sweep.txt).
+rows_for() {
+    awk -v q="$1" '{ n = split($8, f, ","); for (i = 1; i <= n; i++) if (f[i] == q) print }' <<<"$ROWS"
+}
+ROWS=$(bash bench/replication_sets.sh --rows)
+SETS=$OUT/sets
+STIMULI=$STIMULI bash bench/replication_sets.sh "$SETS" >/dev/null
+
 # --- Viewing distance: the stand-in sky, frames 20, 93, 105, 150, 190 (all three point sets).
-STANDIN=(f093:thesis_full_f093 f020_stratified:thesis_full_f020_stratified
-    f105_stratified:thesis_full_f105 f150_stratified:thesis_full_f150_stratified
-    f190_stratified:thesis_full_f190_stratified f020_hp:thesis_full_f020_hp
-    f105_hp:thesis_full_f105_hp f150_hp:thesis_full_f150_hp f190_hp:thesis_full_f190_hp)
 declare -A POOLED F093
 for d in 0.6 0.7 1.0; do
-    dirs=()
-    for s in "${STANDIN[@]}"; do
-        predict "$OUT/d$d/${s%%:*}" "${s#*:}" "scenes/designs/${s#*:}.json" --distance-m "$d"
-        dirs+=("$OUT/d$d/${s%%:*}")
-    done
+    dirs=() f93=()
+    while read -r name frames _; do
+        predict "$OUT/$name/d$d" "$name" "$SETS/$name/design.json" --distance-m "$d"
+        dirs+=("$OUT/$name/d$d")
+        [[ $frames != 93 ]] || f93+=("$OUT/$name/d$d")
+    done < <(rows_for distance)
     POOLED[$d]=$(frames "${dirs[@]}")
-    F093[$d]=$(frames "$OUT/d$d/f093")
+    F093[$d]=$(frames "${f93[@]}")
 done
 
-# --- Real sky (--asset CedarCity.hdr=...): frames 93 and 150, beside the stand-in's same frames.
-# Stratified of both scenes, Hammersley and Poisson of the plane (spheres: not rendered).
-for f in 093 150; do
-    for s in full_f${f}_real_sky_stratified plane_f${f}_real_sky_hp; do
-        predict "$OUT/real_sky/$s" "thesis_$s" "scenes/designs/thesis_$s.json"
-    done
-done
-R=$OUT/real_sky
-REAL=$(frames "$R/full_f093_real_sky_stratified" "$R/plane_f093_real_sky_hp" \
-    "$R/full_f150_real_sky_stratified" "$R/plane_f150_real_sky_hp")
-REAL93=$(frames "$R/full_f093_real_sky_stratified" "$R/plane_f093_real_sky_hp")
-REAL150=$(frames "$R/full_f150_real_sky_stratified" "$R/plane_f150_real_sky_hp")
-STAND=$(frames "$OUT/d0.7/f093" "$OUT/d0.7/f150_stratified" "$OUT/d0.7/f150_hp")
-STAND150=$(frames "$OUT/d0.7/f150_stratified" "$OUT/d0.7/f150_hp")
+# --- Real sky (--asset CedarCity.hdr=...): frames 93 and 150, beside the stand-in's same frames
+# (their predictions at 0.7 m above).
+stand=() stand150=() real=() real93=() real150=()
+while read -r name frames _ _ from _; do
+    if [[ $from == thesis ]]; then
+        predict "$OUT/$name/d0.7" "$name" "$SETS/$name/design.json" --distance-m 0.7
+        stand+=("$OUT/$name/d0.7")
+        [[ $frames != 150 ]] || stand150+=("$OUT/$name/d0.7")
+    else
+        predict "$OUT/$name/design" "$name" "$SETS/$name/design.json"
+        real+=("$OUT/$name/design")
+        [[ $frames != 93 ]] || real93+=("$OUT/$name/design")
+        [[ $frames != 150 ]] || real150+=("$OUT/$name/design")
+    fi
+done < <(rows_for sky)
+REAL=$(frames "${real[@]}")
+REAL93=$(frames "${real93[@]}")
+REAL150=$(frames "${real150[@]}")
+STAND=$(frames "${stand[@]}")
+STAND150=$(frames "${stand150[@]}")
 
 # --- Playback and shift scope: the plane's crossing, frames 91-96 as one 6-frame video.
 declare -A TEMPORAL
 for scope in frame sequence; do
-    for sets in hammersley sp; do
-        set=thesis_plane_f091_096_${sets}_$scope
-        for play in 30 15 8.33 loops2; do
-            design=scenes/designs/$set.json
-            [[ $play == 30 ]] || design=$(variant "$set" "$play")
-            predict "$OUT/temporal/$scope/$sets/$play" "$set" "$design"
-        done
-    done
     for play in 30 15 8.33 loops2; do
-        TEMPORAL[$scope/$play]=$(frames "$OUT/temporal/$scope/hammersley/$play" "$OUT/temporal/$scope/sp/$play")
+        dirs=()
+        while read -r name _ _ _ _ shifts _; do
+            [[ $shifts == "$scope" ]] || continue
+            design=$SETS/$name/design.json
+            [[ $play == 30 || ! -e $STIMULI/$name/manifest.json ]] || design=$(variant "$name" "$play")
+            predict "$OUT/$name/$play" "$name" "$design"
+            dirs+=("$OUT/$name/$play")
+        done < <(rows_for playback)
+        TEMPORAL[$scope/$play]=$(frames "${dirs[@]}")
     done
 done
 
 # --- Other readings of Figure 13: the crossing frame 93, stratified.
-for r in diagonal_fov half_angle_fov; do
-    predict "$OUT/readings/$r" "thesis_plane_f093_$r" "scenes/designs/thesis_plane_f093_$r.json"
-done
+readings=() reading_tables=()
+while read -r name _ _ _ from _; do
+    predict "$OUT/$name/design" "$name" "$SETS/$name/design.json"
+    readings+=("$from")
+    reading_tables+=("$(frames "$OUT/$name/design")")
+done < <(rows_for reading)
 
 # --- The rows.
 echo "| row | plane H / P / S | spheres H / P / S |"
@@ -135,8 +149,8 @@ for scope in frame sequence; do
         echo "| frames 91-96 as a video, 0.7 m, shifts per $scope, $rate | $(cells "$t" plane 1) | - |"
     done
 done
-for r in diagonal_fov half_angle_fov; do
-    t=$(frames "$OUT/readings/$r")
+for i in "${!readings[@]}"; do
+    r=${readings[$i]} t=${reading_tables[$i]}
     echo "| reading '${r//_/ }', 0.7 m, frame 93 | - / - / $(cell "$t" plane-stratified-truncated_box 1) | - |"
 done
 echo

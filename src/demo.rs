@@ -1,12 +1,12 @@
 //! `blurlab demo`: the whole study on built-in defaults, end to end and small.
 //!
-//! 1. render the demo stimulus set (`scenes/jobs/demo.json`: both scenes, the thesis's three
+//! 1. render the demo stimulus set (`scenes/demo/job.json`: both scenes, the thesis's three
 //!    point sets, levels 1..125, a reference per scene) into `stimuli/demo/` — resumable, so a
 //!    second run reuses every finished frame;
-//! 2. check it the way a session would (preflight of `scenes/designs/demo.json`);
+//! 2. check it the way a session would (preflight of `scenes/demo/design.json`);
 //! 3. predict from the stimuli how visible each one's noise is (`blurlab predict`, into
 //!    `results/demo/predict/`), and run simulated subjects who answer from that prediction
-//!    (`--observer FILE` instead: typed-in thresholds, e.g. `scenes/observers/thesis.json`, the
+//!    (`--observer FILE` instead: typed-in thresholds, e.g. `scenes/thesis/observer.json`, the
 //!    thesis's JNDs) through that design into `results/demo/sessions/`;
 //! 4. analyze them into `results/demo/report/` (fits, JNDs, t-tests, figures) and tabulate the
 //!    stimuli's speed against error beside them (`results/demo/report/convergence/`);
@@ -19,8 +19,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The demo's inputs, relative to the project root.
-const JOB: &str = "scenes/jobs/demo.json";
-const DESIGN: &str = "scenes/designs/demo.json";
+const JOB: &str = "scenes/demo/job.json";
+const DESIGN: &str = "scenes/demo/design.json";
 
 /// What the demo is asked to do (`blurlab demo`'s flags map onto it).
 #[derive(Clone, Debug, PartialEq)]
@@ -112,7 +112,7 @@ pub fn run(args: &DemoOptions, progress: DemoProgress) -> Result<DemoOutput> {
             design: Some(root.join(DESIGN)),
             out: Some(out.join("predict")),
             // decision None: the stage the demo design's layout gets (sequential: the
-            // side-by-side stage, analysis::predict::stage).
+            // side-by-side stage, analysis::predict::stage_choice).
             ..analysis::predict::options::PredictOptions::new(stimuli.clone())
         },
         progress.predict,

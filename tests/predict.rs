@@ -88,7 +88,7 @@ fn calibration_recovers_the_constant_the_sessions_were_simulated_with() {
         display: DisplaySpec::default(),
         pixels_per_degree: 39.5,
         k: 1.0,
-        stage: analysis::predict::stage::Stage::for_layout(None),
+        decision: analysis::predict::stage_choice::StageChoice::for_layout(None),
         stimuli: rows(1.0)
             .into_iter()
             .map(|row| StimulusPrediction {

@@ -1,14 +1,15 @@
 //! The observer against human data: Meese et al. 2007's cross-orientation masking through
-//! `blurlab predict validate meese2007` (last test), and ModelFest (analysis/tests/data/modelfest) through the
-//! model's pipeline with the committed parameters (pooling::FITTED, shape::FITTED, decision::DEFAULT_K, the
-//! fit of `blurlab predict validate modelfest` on all 43 stimuli). A subset keeps CI quick;
+//! `blurlab predict validate meese2007` (last test), and ModelFest (analysis/tests/data/modelfest)
+//! through the model's pipeline with the committed parameters (pooling::FITTED, shape::FITTED,
+//! proportion_correct::DEFAULT_K, the fit of `blurlab predict validate modelfest` on all 43
+//! stimuli). A subset keeps CI quick;
 //! the full validation's figures are in docs/predict.md.
 
-use analysis::predict::decision::DEFAULT_K;
-use analysis::predict::modelfest::{Stimulus, load, response};
-use analysis::predict::pooling::{FITTED, Grid};
-use analysis::predict::shape;
-use analysis::predict::validate::{Fit, Params, d_prime_84, db};
+use analysis::observer::datasets::modelfest::fit::{Fit, Params, d_prime_84, db};
+use analysis::observer::datasets::modelfest::{Stimulus, load, response};
+use analysis::observer::model::pooling::{FITTED, Grid};
+use analysis::observer::model::proportion_correct::DEFAULT_K;
+use analysis::observer::model::shape;
 use std::path::PathBuf;
 
 fn data() -> PathBuf {
@@ -201,13 +202,13 @@ fn meese2007_validation_reports_every_stage() {
 /// third of Q (ratio 0.64).
 #[test]
 fn side_by_side_detects_the_large_gaussian_as_the_difference_stage_does() {
-    use analysis::predict::modelfest::response_by_frames_in;
-    use analysis::predict::video::Comparison;
+    use analysis::observer::datasets::modelfest::response_by_frames_in;
+    use analysis::observer::model::decision_stage::DecisionStage;
     let stimuli = load(&data()).unwrap();
     let s = stimuli.iter().find(|s| s.number == 26).unwrap();
     let d = response_by_frames_in(s, FITTED, shape::FITTED, &|f| f).unwrap();
     let o = response_by_frames_in(s, FITTED, shape::FITTED, &|f| {
-        f.comparing(Comparison::SideBySide, FITTED.space)
+        f.with_stage(DecisionStage::SideBySide, FITTED.space)
     })
     .unwrap();
     assert!((o / d - 1.0).abs() < 0.1, "ratio {}", o / d);
@@ -220,8 +221,8 @@ fn side_by_side_detects_the_large_gaussian_as_the_difference_stage_does() {
 #[test]
 #[ignore = "measurement (3 CPU-minutes): cargo test --test predict_modelfest oriented -- --ignored --nocapture"]
 fn oriented_side_by_side_on_modelfest() {
-    use analysis::predict::modelfest::response_by_frames_in;
-    use analysis::predict::video::Comparison;
+    use analysis::observer::datasets::modelfest::response_by_frames_in;
+    use analysis::observer::model::decision_stage::DecisionStage;
     use rayon::prelude::*;
     let stimuli = load(&data()).unwrap();
     let f = committed();
@@ -230,7 +231,7 @@ fn oriented_side_by_side_on_modelfest() {
         .map(|s| {
             let d = response_by_frames_in(s, FITTED, shape::FITTED, &|f| f).unwrap();
             let o = response_by_frames_in(s, FITTED, shape::FITTED, &|f| {
-                f.comparing(Comparison::SideBySide, FITTED.space)
+                f.with_stage(DecisionStage::SideBySide, FITTED.space)
             })
             .unwrap();
             (f.predict(d) - s.measured, f.predict(o) - s.measured, o / d)

@@ -19,7 +19,9 @@ fn q_with(playback: serde_json::Value) -> Vec<f64> {
     let settings = PredictSettings {
         display: Default::default(),
         k: 1.0,
-        stage: analysis::predict::stage::Stage::for_layout(Some(design.file.layout)),
+        decision: analysis::predict::stage_choice::StageChoice::for_layout(Some(
+            design.file.layout,
+        )),
     };
     let p = predict(&study.stimuli_dir, Some(&design), &settings, &NoProgress).unwrap();
     p.stimuli.iter().map(|s| s.row.q).collect()

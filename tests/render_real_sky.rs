@@ -1,22 +1,17 @@
 //! `blurlab render job --asset CedarCity.hdr=PATH`: the thesis's plane scene rendered under the user's
 //! copy of the thesis's sky instead of the stand-in, recorded by hash in the manifest. The copy
-//! is never part of the project: the test uses `../shared/assets/CedarCity.hdr` beside the
-//! repository (or `$BLURLAB_SHARED_ASSETS/CedarCity.hdr`) and is skipped without it.
+//! is never part of the project: the test uses `$BLURLAB_TEST_ASSETS/CedarCity.hdr` and is
+//! skipped without it.
 
 use renderer::digest::sha256_hex;
 use renderer::manifest::Manifest;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-const BLURLAB: &str = env!("CARGO_BIN_EXE_blurlab");
+#[path = "support/test_assets.rs"]
+mod test_assets;
 
-fn real_sky() -> Option<PathBuf> {
-    let dir = std::env::var_os("BLURLAB_SHARED_ASSETS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/assets"));
-    let file = dir.join("CedarCity.hdr");
-    file.is_file().then_some(file)
-}
+const BLURLAB: &str = env!("CARGO_BIN_EXE_blurlab");
 
 /// A one-frame, 32 x 32 job of the thesis's plane scene at a sun-facing frame, where the sky
 /// fills most of the view.
@@ -56,8 +51,7 @@ fn frame(out: &Path, m: &Manifest) -> image::RgbImage {
 
 #[test]
 fn the_user_s_cedar_city_map_replaces_the_stand_in_and_is_recorded_by_hash() {
-    let Some(sky) = real_sky() else {
-        eprintln!("skipped: no ../shared/assets/CedarCity.hdr (set BLURLAB_SHARED_ASSETS)");
+    let Some(sky) = test_assets::asset("CedarCity.hdr") else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

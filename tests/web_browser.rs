@@ -154,7 +154,7 @@ async fn browser_session(design: &Path, frames_per_trial: usize, dir: &Path) -> 
     sessions
 }
 
-/// The demo's job and design (`scenes/jobs/demo.json`, `scenes/designs/demo.json`) cut to a
+/// The demo's job and design (`scenes/demo/job.json`, `scenes/demo/design.json`) cut to a
 /// short session: one point set, levels 1 and 125, one repeat (4 main trials and the demo's 3
 /// practice trials), everything else (stimuli, playback, keys, layout) the demo's own.
 /// Renders its stimuli under `root` and returns the design's path.
@@ -162,7 +162,7 @@ fn short_demo(root: &Path) -> PathBuf {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let read =
         |p: &Path| -> Value { serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap() };
-    let mut job = read(&scenes.join("jobs/demo.json"));
+    let mut job = read(&scenes.join("demo/job.json"));
     job["scenes"] = json!([
         scenes.join("thesis/plane.json"),
         scenes.join("thesis/spheres.json")
@@ -174,7 +174,7 @@ fn short_demo(root: &Path) -> PathBuf {
     let job = renderer::job::Job::load(&job_path).unwrap();
     let opts = renderer::job::RunOptions::new(root.join("stimuli"));
     renderer::job::run(&job, &opts, &renderer::progress::NoProgress).expect("the demo renders");
-    let mut design = read(&scenes.join("designs/demo.json"));
+    let mut design = read(&scenes.join("demo/design.json"));
     design["manifest"] = json!("stimuli/demo/manifest.json");
     design["factors"]["point_sets"] = json!(["hammersley"]);
     design["levels"] = json!([1, 125]);

@@ -15,7 +15,7 @@
 //!
 //! ```text
 //! nice -n 10 cargo run -p analysis --release --example adaptive_efficiency -- \
-//!     scenes/designs/thesis.json scenes/observers/thesis.json 1000 200 > efficiency.md
+//!     scenes/thesis/design.json scenes/thesis/observer.json 1000 200 > efficiency.md
 //! ```
 //! (arguments: constant-stimuli design, observer, replications, bootstrap resamples (0: fits
 //! and posteriors only, the interval columns of the fits left empty), optionally a text the

@@ -1,5 +1,5 @@
 //! Exploring the CSF's shape on ModelFest (issue 25, fifth pass): the responses of the 43
-//! stimuli over a grid of poolings and CSF shapes ([`analysis::predict::shape::Shape`]),
+//! stimuli over a grid of poolings and CSF shapes ([`analysis::observer::model::shape::Shape`]),
 //! written once to a CSV file and refitted from it, so that a grid is paid for once and
 //! profiled and restricted at will.
 //!
@@ -13,10 +13,12 @@
 //! profile (best in-sample RMS with that parameter held) and the left-out fits that move away
 //! from the full fit's point (what one stimulus alone identifies).
 
-use analysis::predict::modelfest::{Stimulus, load};
-use analysis::predict::pooling::{Grid, Pooling};
-use analysis::predict::shape::{FITTED, Shape};
-use analysis::predict::validate::{Params, Responses, fit, markdown, responses, validate};
+use analysis::observer::datasets::modelfest::fit::{
+    Params, Responses, fit, markdown, responses, validate,
+};
+use analysis::observer::datasets::modelfest::{Stimulus, load};
+use analysis::observer::model::pooling::{Grid, Pooling};
+use analysis::observer::model::shape::{FITTED, Shape};
 use anyhow::{Context, Result, bail};
 use renderer::progress::NoProgress;
 use std::collections::BTreeMap;
@@ -61,7 +63,7 @@ fn point(x: &[f64]) -> Params {
 fn axes(args: &[String]) -> Result<BTreeMap<&'static str, Vec<f64>>> {
     let committed = coordinates(&Params {
         shape: FITTED,
-        pooling: analysis::predict::pooling::FITTED,
+        pooling: analysis::observer::model::pooling::FITTED,
     });
     let mut out: BTreeMap<&'static str, Vec<f64>> = NAMES
         .iter()

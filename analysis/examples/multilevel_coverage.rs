@@ -340,7 +340,7 @@ fn main() {
     let first: u64 = args.get(5).map_or(0, |a| a.parse().unwrap());
     let runs = first..first + reps;
     let mut design =
-        Design::load(Path::new("scenes/designs/thesis.json")).expect("the thesis design");
+        Design::load(Path::new("scenes/thesis/design.json")).expect("the thesis design");
     if let Some(l) = args.get(6).filter(|a| *a != "thesis") {
         design.file.levels = l.split(',').map(|v| v.parse().unwrap()).collect();
     }

@@ -37,7 +37,7 @@ pub struct PairOrder {
 
 impl PairOrder {
     /// The thesis's order: plane before spheres (Table 1); Hammersley, Stratified Monte Carlo,
-    /// Poisson (Table 2: H vs S, H vs P, S vs P), under the names of `scenes/designs/thesis.json`.
+    /// Poisson (Table 2: H vs S, H vs P, S vs P), under the names of `scenes/thesis/design.json`.
     pub fn thesis() -> Self {
         let v = |names: &[&str]| names.iter().map(|s| s.to_string()).collect();
         PairOrder {

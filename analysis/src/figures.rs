@@ -189,6 +189,60 @@ pub(crate) fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("drawing failed: {e:?}")
 }
 
+/// The legend of every figure: the series' labels in a box of translucent white with a black
+/// border, in `font_size` points, at `position` (a corner the figure's curves leave empty).
+pub(crate) fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    font_size: u32,
+    position: SeriesLabelPosition,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, font_size))
+        .position(position)
+        .draw()
+        .map_err(err)
+}
+
+/// A line's legend swatch: a 20-pixel stroke of its colour and width.
+pub(crate) fn line_swatch(
+    colour: RGBColor,
+    width: u32,
+) -> impl Fn((i32, i32)) -> PathElement<(i32, i32)> {
+    move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(width))
+}
+
+/// A dashed horizontal line at `y` across `(x0, x1)`: the target's and chance's levels.
+pub(crate) fn level_line(
+    y: f64,
+    (x0, x1): (f64, f64),
+    style: ShapeStyle,
+) -> DashedLineSeries<std::vec::IntoIter<(f64, f64)>, i32> {
+    DashedLineSeries::new(vec![(x0, y), (x1, y)], 8, 5, style)
+}
+
+/// Factor on spp that nudges overlaid series apart on a log axis: 3% of a decade per series,
+/// centred on the tested level (1 for a single series).
+pub(crate) fn dodge(series: usize, of: usize) -> f64 {
+    10f64.powf(0.03 * (series as f64 - 0.5 * (of as f64 - 1.0)))
+}
+
+/// An error bar from `lo` to `hi` at `x` on the log spp axis, with caps 4% of a decade wide.
+pub(crate) fn error_bar(
+    x: f64,
+    (lo, hi): (f64, f64),
+    style: ShapeStyle,
+) -> [PathElement<(f64, f64)>; 3] {
+    let cap = 10f64.powf(0.02);
+    [
+        PathElement::new(vec![(x, lo), (x, hi)], style),
+        PathElement::new(vec![(x / cap, lo), (x * cap, lo)], style),
+        PathElement::new(vec![(x / cap, hi), (x * cap, hi)], style),
+    ]
+}
+
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     f: &Figure,
@@ -206,12 +260,7 @@ fn draw<DB: DrawingBackend>(
     let (mut chart, (x0, x1)) = spp_axes(root, &f.title, &ticks, y0, "proportion correct")?;
     for (y, colour, label) in [(target, RED, "JND threshold"), (guess, GREEN, "chance")] {
         chart
-            .draw_series(DashedLineSeries::new(
-                vec![(x0, y), (x1, y)],
-                8,
-                5,
-                colour.stroke_width(2),
-            ))
+            .draw_series(level_line(y, (x0, x1), colour.stroke_width(2)))
             .map_err(err)?
             .label(format!("{label} (p = {y})"))
             .legend(move |(x, y)| {
@@ -223,27 +272,18 @@ fn draw<DB: DrawingBackend>(
             });
     }
     let labels = legend_labels(&f.groups);
-    let n = f.groups.len() as f64;
     for (i, g) in f.groups.iter().enumerate() {
         let series = Series {
             group: g,
             label: &labels[i],
             colour: PALETTE[i % PALETTE.len()],
-            // Overlaid means and bars are nudged apart, 3% of a decade per series (log axis).
-            dodge: 10f64.powf(0.03 * (i as f64 - 0.5 * (n - 1.0))),
+            // Overlaid means and bars are nudged apart.
+            dodge: dodge(i, f.groups.len()),
         };
         draw_group(&mut chart, &series, target, (x0, x1))?;
     }
     // Lower left: the curves start near 1 at few spp, so that corner stays empty.
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 14))
-        .position(SeriesLabelPosition::LowerLeft)
-        .draw()
-        .map_err(err)?;
-    Ok(())
+    legend(&mut chart, 14, SeriesLabelPosition::LowerLeft)
 }
 
 /// Legend labels: the group labels, without a part every overlaid condition shares (e.g. the
@@ -307,18 +347,11 @@ fn draw_group<DB: DrawingBackend>(
     } = *series;
     let style = colour.stroke_width(2);
     // Mean over subjects with standard-error bars.
-    // Error bars drawn as paths (a vertical bar with caps 4% of a decade wide on the log axis).
-    let cap = 10f64.powf(0.02);
     for l in &g.levels {
         let Some(e) = l.sem else { continue };
         let x = l.level as f64 * dodge;
-        let (y0, y1) = (l.mean - e, l.mean + e);
         chart
-            .draw_series([
-                PathElement::new(vec![(x, y0), (x, y1)], style),
-                PathElement::new(vec![(x / cap, y0), (x * cap, y0)], style),
-                PathElement::new(vec![(x / cap, y1), (x * cap, y1)], style),
-            ])
+            .draw_series(error_bar(x, (l.mean - e, l.mean + e), style))
             .map_err(err)?;
     }
     chart

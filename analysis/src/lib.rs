@@ -9,6 +9,7 @@ pub mod data;
 pub mod figures;
 pub mod jnd;
 pub mod multilevel;
+pub mod observer;
 pub mod optimizer;
 pub mod options;
 pub mod output;

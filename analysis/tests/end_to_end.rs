@@ -248,7 +248,7 @@ fn empty_inputs_and_bad_settings_are_refused() {
 fn a_design_orders_the_pairs_and_must_match_the_logs() {
     let dir = tempfile::tempdir().unwrap();
     let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let design_path = repo.join("scenes/designs/thesis.json");
+    let design_path = repo.join("scenes/thesis/design.json");
     let design = experiment::Design::load(&design_path).unwrap();
     let spec = StudySpec {
         subjects: 3,

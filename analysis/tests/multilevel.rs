@@ -214,8 +214,8 @@ fn plan_equivalence_tabulates_every_point_set_pair_and_refuses_one_subject() {
     use analysis::plan::equivalence::run;
     use renderer::progress::NoProgress;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let design = experiment::Design::load(&root.join("scenes/designs/thesis.json")).unwrap();
-    let observer = experiment::Observer::load(&root.join("scenes/observers/thesis.json")).unwrap();
+    let design = experiment::Design::load(&root.join("scenes/thesis/design.json")).unwrap();
+    let observer = experiment::Observer::load(&root.join("scenes/thesis/observer.json")).unwrap();
     let rows = run(&design, &observer, &[4], 1, 0.2, &NoProgress).unwrap();
     assert_eq!(rows.len(), 3, "{rows:?}");
     for r in &rows {
@@ -234,8 +234,8 @@ fn plan_equivalence_tabulates_every_point_set_pair_and_refuses_one_subject() {
 #[test]
 fn the_same_video_level_is_read_from_the_logs() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let design = experiment::Design::load(&root.join("scenes/designs/thesis.json")).unwrap();
-    let observer = experiment::Observer::load(&root.join("scenes/observers/thesis.json")).unwrap();
+    let design = experiment::Design::load(&root.join("scenes/thesis/design.json")).unwrap();
+    let observer = experiment::Observer::load(&root.join("scenes/thesis/observer.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let read = |d: &experiment::Design, name: &str| {
         let out = dir.path().join(name);

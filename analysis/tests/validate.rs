@@ -14,7 +14,7 @@ fn repo(p: &str) -> PathBuf {
 /// One simulated subject of the demo design (copied into `dir` with a manifest of its
 /// stimuli beside it, so that the manifest check runs); returns the log's path and lines.
 fn one_log(dir: &Path) -> (PathBuf, Vec<String>, Design) {
-    let text = std::fs::read_to_string(repo("scenes/designs/demo.json")).unwrap();
+    let text = std::fs::read_to_string(repo("scenes/demo/design.json")).unwrap();
     let copy = dir.join("design.json");
     std::fs::write(
         &copy,
@@ -22,7 +22,7 @@ fn one_log(dir: &Path) -> (PathBuf, Vec<String>, Design) {
     )
     .unwrap();
     let design = Design::load(&copy).unwrap();
-    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let observer = Observer::load(&repo("scenes/thesis/observer.json")).unwrap();
     let log = simulate(&design, &observer, 1, &dir.join("sessions"))
         .unwrap()
         .remove(0);

@@ -17,9 +17,8 @@ fn root() -> PathBuf {
 /// Subject `subject`'s simulated demo session rewritten as `mode`, with `dropped(i)` dropped
 /// frames on main trial i.
 fn session(dir: &Path, subject: &str, mode: &str, dropped: impl Fn(u64) -> u64) -> PathBuf {
-    let design = experiment::Design::load(&root().join("scenes/designs/demo.json")).unwrap();
-    let observer =
-        experiment::Observer::load(&root().join("scenes/observers/thesis.json")).unwrap();
+    let design = experiment::Design::load(&root().join("scenes/demo/design.json")).unwrap();
+    let observer = experiment::Observer::load(&root().join("scenes/thesis/observer.json")).unwrap();
     let path = dir.join(format!("{subject}_{mode}.jsonl"));
     experiment::simulate::simulate_subject(&design, &observer, subject, &path).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();

@@ -7,7 +7,7 @@
 //! ```text
 //! cargo build --release -p blurlab
 //! nice -n 10 cargo bench -p experiment --features web --bench web_load -- \
-//!     --server target/release/blurlab --design scenes/designs/demo.json \
+//!     --server target/release/blurlab --design scenes/demo/design.json \
 //!     --subjects 200 --think-ms 1500 [--kills 10] --out /tmp/web_load
 //! ```
 //! (The demo design's stimuli must be rendered where the design points, or pass a design copy.)
@@ -36,7 +36,7 @@ struct Args {
 fn args() -> Args {
     let mut a = Args {
         server: "target/release/blurlab".into(),
-        design: "scenes/designs/demo.json".into(),
+        design: "scenes/demo/design.json".into(),
         subjects: 200,
         think_ms: 1500,
         kills: 0,

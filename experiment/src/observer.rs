@@ -1,4 +1,4 @@
-//! Simulated observers (`scenes/observers/<name>.json`, format `blurlab-observer/1`): a known
+//! Simulated observers (`scenes/<study>/observer.json`, format `blurlab-observer/1`): a known
 //! two-alternative psychometric function per condition ([`crate::psychometric::p_correct`]),
 //! for piloting a design and for testing the analysis against a known truth.
 //!
@@ -67,7 +67,7 @@ fn is_zero(x: &f64) -> bool {
 }
 
 /// Subject spread of a predicted observer given as a bare `predicted.csv`: the thesis
-/// observer's (`scenes/observers/thesis.json`).
+/// observer's (`scenes/thesis/observer.json`).
 pub const PREDICTED_SUBJECT_SPREAD: f64 = 0.6;
 
 /// The threshold (spp at p = 0.75) of the conditions a rule matches; absent factors match all.

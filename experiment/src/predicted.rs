@@ -15,7 +15,8 @@
 //! p_c = Phi(d'/2)^2 + Phi(-d'/2)^2
 //! ```
 //!
-//! (derivation and a Monte Carlo check of the task in `analysis::predict::decision`).
+//! (derivation and a Monte Carlo check of the task in
+//! `analysis::observer::model::proportion_correct`).
 
 use crate::trials::Condition;
 use anyhow::{Context, Result, bail};
@@ -81,8 +82,8 @@ pub fn two_pair_p_correct(d_prime: f64) -> f64 {
 /// analysis's `sigmoid::phi` (its own erfc, a few ulps relative in both tails) serves the
 /// likelihood of a cumulative-normal fit, where a step-like fit evaluates Phi far in its tails
 /// and statrs' erfc (1e-10 relative off near x = 0.5) would bias the optimum. This one serves
-/// the two-pair decision rule and its inverses (`analysis::predict::decision`), where d' is
-/// known to a few percent: statrs is accurate enough, and it fixes the bytes of every
+/// the two-pair decision rule and its inverses (`analysis::observer::model::proportion_correct`),
+/// where d' is known to a few percent: statrs is accurate enough, and it fixes the bytes of every
 /// `predicted.csv` written and of every predicted observer's answers, which the accurate erfc
 /// would change in the last digits. The experiment crate sits below the analysis and does not
 /// carry its special functions.

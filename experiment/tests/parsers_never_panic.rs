@@ -46,12 +46,12 @@ proptest! {
 
     #[test]
     fn designs_never_panic(e in edits(6)) {
-        load_file("design.json", &apply(&read("scenes/designs/demo.json"), &e), Design::load);
+        load_file("design.json", &apply(&read("scenes/demo/design.json"), &e), Design::load);
     }
 
     #[test]
     fn observers_never_panic(e in edits(6)) {
-        load_file("observer.json", &apply(&read("scenes/observers/thesis.json"), &e), Observer::load);
+        load_file("observer.json", &apply(&read("scenes/thesis/observer.json"), &e), Observer::load);
     }
 
     #[test]
@@ -82,6 +82,6 @@ fn the_valid_bases_are_valid() {
     let p = dir.path().join("predicted.csv");
     std::fs::write(&p, predicted_bytes()).unwrap();
     PredictedTable::load(&p).unwrap();
-    let obs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/observers/thesis.json");
+    let obs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/thesis/observer.json");
     Observer::load(&obs).unwrap();
 }

@@ -15,8 +15,8 @@ fn repo(p: &str) -> std::path::PathBuf {
 
 #[test]
 fn twelve_thesis_subjects_follow_the_observer_and_rerun_identically() {
-    let design = Design::load(&repo("scenes/designs/thesis.json")).unwrap();
-    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let design = Design::load(&repo("scenes/thesis/design.json")).unwrap();
+    let observer = Observer::load(&repo("scenes/thesis/observer.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let paths = simulate(&design, &observer, 12, dir.path()).unwrap();
     assert_eq!(paths.len(), 12);
@@ -79,7 +79,7 @@ fn twelve_thesis_subjects_follow_the_observer_and_rerun_identically() {
 
 #[test]
 fn an_observer_that_does_not_cover_the_design_is_refused_before_writing() {
-    let design = Design::load(&repo("scenes/designs/demo.json")).unwrap();
+    let design = Design::load(&repo("scenes/demo/design.json")).unwrap();
     let observer = Observer::parse(
         Path::new("o.json"),
         r#"{"format": "blurlab-observer/1", "name": "o", "slope": 1,
@@ -96,13 +96,13 @@ fn an_observer_that_does_not_cover_the_design_is_refused_before_writing() {
 #[test]
 fn a_design_with_another_task_is_not_presented() {
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(repo("scenes/designs/thesis.json")).unwrap();
+    let text = std::fs::read_to_string(repo("scenes/thesis/design.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["task"] = serde_json::json!({"alternatives": 4});
     let path = dir.path().join("four.json");
     std::fs::write(&path, v.to_string()).unwrap();
     let design = Design::load(&path).unwrap();
-    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let observer = Observer::load(&repo("scenes/thesis/observer.json")).unwrap();
     let e = simulate(&design, &observer, 1, &dir.path().join("sessions")).unwrap_err();
     let e = format!("{e:#}");
     assert!(e.contains("four.json") && e.contains("`task`"), "{e}");
@@ -114,8 +114,8 @@ fn a_design_with_another_task_is_not_presented() {
 fn a_log_of_another_mode_is_neither_continued_nor_replaced() {
     use experiment::log_writer::Durability;
     use experiment::session::{Session, StartInfo};
-    let design = Design::load(&repo("scenes/designs/thesis.json")).unwrap();
-    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let design = Design::load(&repo("scenes/thesis/design.json")).unwrap();
+    let observer = Observer::load(&repo("scenes/thesis/observer.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let log = simulate(&design, &observer, 1, dir.path())
         .unwrap()
@@ -156,8 +156,8 @@ fn a_log_of_another_mode_is_neither_continued_nor_replaced() {
 /// datasets are those of the file route.
 #[test]
 fn memory_logs_are_the_files_bytes_in_the_folders_order() {
-    let design = Design::load(&repo("scenes/designs/thesis.json")).unwrap();
-    let observer = Observer::load(&repo("scenes/observers/thesis.json")).unwrap();
+    let design = Design::load(&repo("scenes/thesis/design.json")).unwrap();
+    let observer = Observer::load(&repo("scenes/thesis/observer.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let paths = simulate(&design, &observer, 101, dir.path()).unwrap();
     let mut by_name = paths.clone();

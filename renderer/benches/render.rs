@@ -2,7 +2,7 @@
 //! reflection rays together), and the cost of motion (each scene against itself frozen at the
 //! frame's mid-shutter time: the same picture without blur, at equal spp).
 //!
-//! `CARGO_TARGET_DIR=/work/target-release cargo bench -p renderer --bench render`
+//! `cargo bench -p renderer --bench render`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use renderer::progress::NoProgress;

@@ -1,7 +1,7 @@
 //! Sampling speed: generating every point set at the thesis's eight levels, building a
 //! frame's sampler, and the per-sample cost of shift + warps (the renderer's hot path).
 //!
-//! `CARGO_TARGET_DIR=/work/target-release cargo bench -p renderer --bench sampling`
+//! `cargo bench -p renderer --bench sampling`
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use renderer::sampling::pointset::{self, Poisson};

@@ -4,7 +4,7 @@
 //! Workload: [`renderer::workload`] (a 200k-triangle torus above a ground; 256x256 jittered
 //! pinhole rays, one shadow ray toward a directional light per hit), traced through the
 //! 4-wide BVH with SIMD box and triangle tests (`renderer::bvh`). Run:
-//! `CARGO_TARGET_DIR=/work/target-release cargo bench -p renderer --bench trace`
+//! `cargo bench -p renderer --bench trace`
 //! (results: `docs/benchmarks/renderer-trace.md`).
 //!
 //! Two groups: `trace` in wall time (what a user waits), `trace_cpu` in CPU time of all the

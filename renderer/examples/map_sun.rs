@@ -5,7 +5,7 @@
 //! than half the peak; the map's luminance percentiles say what an exposure would clip.
 //!
 //! ```text
-//! cargo run -p renderer --example map_sun -- ../shared/assets/CedarCity.hdr
+//! cargo run -p renderer --example map_sun -- /path/to/CedarCity.hdr
 //! ```
 
 use anyhow::{Context, Result};

@@ -6,7 +6,7 @@
 //! both sides alike and mostly cancels in the ratio.
 //!
 //! ```text
-//! CARGO_TARGET_DIR=/work/target-release cargo run --release -p renderer --example motion_cost -- scenes/thesis/spheres.json
+//! cargo run --release -p renderer --example motion_cost -- scenes/thesis/spheres.json
 //! ```
 //!
 //! `--only moving` (or `frozen`) renders just that side, for profilers (`perf record`,

@@ -4,7 +4,7 @@
 //! Medians over seeds. Results: `docs/benchmarks/scramble.md`.
 //!
 //! ```text
-//! CARGO_TARGET_DIR=/work/target-release cargo run --release -p renderer --example scramble_rmse -- \
+//! cargo run --release -p renderer --example scramble_rmse -- \
 //!     scenes/thesis/spheres.json --frame 100 --size 128 --seeds 5 --csv spheres.csv
 //! ```
 //!

@@ -196,7 +196,7 @@ mod tests {
 
     #[test]
     fn paths_are_rebased_relative_from_a_bare_file_name() {
-        let demo = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/jobs/demo.json");
+        let demo = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/demo/job.json");
         let job = |scenes: &[&str]| {
             let Ok(Document::Job(mut j)) = read(Path::new(demo)) else {
                 panic!("{demo} is a job")

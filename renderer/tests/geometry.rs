@@ -10,8 +10,10 @@ use renderer::geometry::{Plane, Ray, Shape, Sphere, TriangleMesh};
 use renderer::hash::{hash, unit_f32};
 use renderer::motion::{Motion, MotionLayer};
 use std::collections::HashSet;
-use std::path::Path;
 use std::sync::Arc;
+
+#[path = "../../tests/support/test_assets.rs"]
+mod test_assets;
 
 const U: f32 = f32::EPSILON / 2.0; // unit roundoff
 
@@ -558,14 +560,9 @@ fn degenerate_triangles_and_grazing_rays_give_no_nan_and_no_false_hits() {
 
 #[test]
 fn real_models_give_finite_hits() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/assets");
-    if !dir.is_dir() {
-        eprintln!(
-            "skipped: {} is absent (third-party test assets)",
-            dir.display()
-        );
+    let Some(dir) = test_assets::folder() else {
         return;
-    }
+    };
     for name in ["bunny-low.obj", "duck.obj", "teapot.obj"] {
         let mesh = TriangleMesh::from_obj(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
         assert!(

@@ -88,7 +88,7 @@ proptest! {
             let job = read("scenes/thesis/plane.job") + "scene scene.json\n";
             ("fuzz.job", job)
         } else {
-            ("fuzz.json", read("scenes/jobs/demo.json").replace("../thesis/plane.json", "scene.json")
+            ("fuzz.json", read("scenes/demo/job.json").replace("../thesis/plane.json", "scene.json")
                 .replace("\"../thesis/spheres.json\"", "\"scene.json\""))
         };
         load_file(name, &apply(base.as_bytes(), &e), Job::load);

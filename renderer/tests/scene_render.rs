@@ -14,6 +14,8 @@ use std::path::{Path, PathBuf};
 
 #[path = "support/progress.rs"]
 mod recorder;
+#[path = "../../tests/support/test_assets.rs"]
+mod test_assets;
 use recorder::Recorder;
 
 fn load(v: &Value, dir: &Path) -> Scene {
@@ -363,13 +365,6 @@ fn hard_cases_give_no_nan_or_infinity_in_any_pixel() {
     }
 }
 
-fn shared_assets() -> Option<PathBuf> {
-    let dir = std::env::var_os("BLURLAB_SHARED_ASSETS")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/assets"));
-    dir.is_dir().then_some(dir)
-}
-
 fn files_with(dir: &Path, ext: &str) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
         .unwrap()
@@ -383,8 +378,7 @@ fn files_with(dir: &Path, ext: &str) -> Vec<PathBuf> {
 
 #[test]
 fn third_party_models_and_maps_load_and_render_without_nan() {
-    let Some(assets) = shared_assets() else {
-        eprintln!("skipped: no ../shared/assets folder (set BLURLAB_SHARED_ASSETS to use one)");
+    let Some(assets) = test_assets::folder() else {
         return;
     };
     let models = files_with(&assets, "obj");
@@ -434,8 +428,7 @@ fn third_party_models_and_maps_load_and_render_without_nan() {
 #[test]
 fn third_party_maps_negative_texels_are_counted_and_refused_above_the_share() {
     use renderer::environment::{Environment, MAX_NEGATIVE_SHARE, NegativeTexels};
-    let Some(assets) = shared_assets() else {
-        eprintln!("skipped: no ../shared/assets folder (set BLURLAB_SHARED_ASSETS to use one)");
+    let Some(assets) = test_assets::folder() else {
         return;
     };
     for map in files_with(&assets, "exr") {

@@ -1,4 +1,4 @@
-//! Point sets differ only in the point set: in the thesis's jobs (`scenes/jobs/thesis.json` and
+//! Point sets differ only in the point set: in the thesis's jobs (`scenes/thesis/job.json` and
 //! a `.job` as Figure 12 prints it) every point set gets new points and new pixel shifts every
 //! frame, so the noise of consecutive frames is equally (in)dependent whatever the set.
 //!
@@ -106,7 +106,7 @@ fn job_options(job: &JobFile) -> &SamplingOptions {
 #[test]
 fn in_the_thesis_jobs_every_set_has_independent_noise_from_frame_to_frame() {
     let json: JobFile =
-        serde_json::from_str(&std::fs::read_to_string(repo("scenes/jobs/thesis.json")).unwrap())
+        serde_json::from_str(&std::fs::read_to_string(repo("scenes/thesis/job.json")).unwrap())
             .unwrap();
     let figure12 = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/thesis/figure12.job");
     let (text, _) =

@@ -320,20 +320,26 @@ fn the_figures_convert_to_json_and_back_without_loss() {
 
 #[test]
 fn the_suites_json_files_convert_to_text_and_back_identically() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    // Every scene and job under scenes/ (the studies' folders also hold designs and observers).
+    let is_scene_or_job = |p: &Path| {
+        let text = std::fs::read_to_string(p).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        v["format"]
+            .as_str()
+            .is_some_and(|f| f == SCENE_FORMAT || f == JOB_FORMAT)
+    };
     let mut files: Vec<PathBuf> = Vec::new();
-    for sub in ["", "jobs", "thesis"] {
-        let Ok(entries) = std::fs::read_dir(root.join(sub)) else {
-            continue;
-        };
-        files.extend(
-            entries
-                .flatten()
-                .map(|e| e.path())
-                .filter(|p| p.extension().is_some_and(|e| e == "json")),
-        );
+    let mut dirs = vec![Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes")];
+    while let Some(dir) = dirs.pop() {
+        for path in std::fs::read_dir(dir).unwrap().flatten().map(|e| e.path()) {
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "json") && is_scene_or_job(&path) {
+                files.push(path);
+            }
+        }
     }
-    assert!(files.len() >= 4, "{files:?}");
+    assert!(files.len() >= 9, "{files:?}");
     for path in files {
         let doc = convert::read(&path).unwrap();
         let text_path = path.with_extension(match doc {
@@ -708,9 +714,9 @@ proptest! {
     }
 }
 
-/// `scenes/thesis/` holds each thesis scene in both formats and `scenes/jobs/` the thesis job in
-/// both: the text twin must read to exactly the JSON model (the thesis job's text twin names
-/// the `.scene` twins), so there is one definition per scene whichever file a user picks.
+/// `scenes/thesis/` holds each thesis scene in both formats and the thesis job in both: the text
+/// twin must read to exactly the JSON model (the thesis job's text twin names the `.scene`
+/// twins), so there is one definition per scene whichever file a user picks.
 #[test]
 fn the_thesis_files_in_both_formats_are_one_definition() {
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
@@ -721,8 +727,8 @@ fn the_thesis_files_in_both_formats_are_one_definition() {
         assert_eq!(text, json, "{name}.scene and {name}.json differ");
     }
     let (Document::Job(text), Document::Job(mut json)) = (
-        convert::read(&scenes.join("jobs/thesis.job")).unwrap(),
-        convert::read(&scenes.join("jobs/thesis.json")).unwrap(),
+        convert::read(&scenes.join("thesis/job.job")).unwrap(),
+        convert::read(&scenes.join("thesis/job.json")).unwrap(),
     ) else {
         panic!("not jobs");
     };

@@ -2,6 +2,7 @@
 //! only map onto `analysis::options::AnalyzeOptions`, whose defaults they repeat (a test checks
 //! that they agree).
 
+use super::named::named;
 use analysis::comparisons::Unit;
 use analysis::options::{AnalyzeOptions, ModelKind, run_report};
 use analysis::psychometric::LapseMode;
@@ -10,8 +11,6 @@ use analysis::sigmoid::Sigmoid;
 use analysis::ttest::TestKind;
 use anyhow::Result;
 use clap::Args;
-use clap::builder::{PossibleValuesParser, TypedValueParser};
-use renderer::named::Named;
 use std::path::PathBuf;
 
 /// Fit psychometric functions, JNDs with bootstrap intervals and t-tests from session logs.
@@ -132,12 +131,6 @@ pub struct AnalyzeArgs {
           value_parser = renderer::limits::real(0.0, 1.0, false, "a share of trials"),
           allow_hyphen_values = true)]
     pub max_dropped_share: f64,
-}
-
-/// A clap value parser offering `T`'s names.
-pub fn named<T: Named + Clone + Send + Sync>() -> impl TypedValueParser<Value = T> {
-    PossibleValuesParser::new(T::ALL.iter().map(|v| v.name()))
-        .map(|s| T::by_name(&s).expect("clap offers only the names"))
 }
 
 impl AnalyzeArgs {

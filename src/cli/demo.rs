@@ -27,7 +27,7 @@ pub struct DemoArgs {
     /// Hide progress bars.
     #[arg(long)]
     pub no_progress: bool,
-    /// Simulated subjects answer from this observer file (e.g. scenes/observers/thesis.json)
+    /// Simulated subjects answer from this observer file (e.g. scenes/thesis/observer.json)
     /// instead of the prediction from the stimuli.
     #[arg(long)]
     pub observer: Option<PathBuf>,

@@ -6,6 +6,7 @@
 
 pub mod analyze;
 pub mod demo;
+pub mod named;
 pub mod plan;
 pub mod predict;
 pub mod progress;

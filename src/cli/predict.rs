@@ -2,13 +2,16 @@
 //! `predict explain`: the flags of `analysis::predict::options`, whose defaults they repeat (a
 //! test checks that they agree), and what each prints.
 
+use super::named::named;
 use crate::cli::progress::{Look, Terminal};
-use analysis::predict::decision::DEFAULT_K;
+use analysis::observer::datasets::meese::fit::CROSS_WEIGHTS;
+use analysis::observer::model::decision_stage::DecisionStage;
+use analysis::observer::model::pooling::FITTED;
+use analysis::observer::model::proportion_correct::DEFAULT_K;
 use analysis::predict::options::{
     ExplainOptions, FramesOptions, PredictOptions, combine_frames, explain, run_predict,
     validate_meese, validate_modelfest,
 };
-use analysis::predict::video::Comparison;
 use anyhow::Result;
 use clap::{Args, Subcommand};
 use std::path::PathBuf;
@@ -73,7 +76,7 @@ pub struct FramesArgs {
     #[arg(required = true, num_args = 1..)]
     pub predictions: Vec<PathBuf>,
     /// Minkowski exponent over frames [default: the model's fitted time exponent].
-    #[arg(long, default_value_t = analysis::predict::pooling::FITTED.space, allow_hyphen_values = true,
+    #[arg(long, default_value_t = FITTED.space, allow_hyphen_values = true,
           value_parser = renderer::limits::real(1.0, f64::INFINITY, false,
               "a Minkowski exponent over frames (inf: the most visible frame)"))]
     pub exponent: f64,
@@ -98,7 +101,7 @@ pub struct MeeseArgs {
     pub dir: PathBuf,
     /// The cross-orientation weights w searched for the side-by-side stage (comma-separated,
     /// each in [0, 1]).
-    #[arg(long, value_delimiter = ',', default_values_t = analysis::predict::masking_validation::CROSS_WEIGHTS,
+    #[arg(long, value_delimiter = ',', default_values_t = CROSS_WEIGHTS,
           value_parser = renderer::limits::real(0.0, 1.0, false, "a cross-orientation weight in [0, 1]"))]
     pub cross_weights: Vec<f64>,
     /// Also write the report to this file (Markdown).
@@ -149,8 +152,8 @@ pub struct PredictArgs {
     /// looks, with masking and Weber-like discrimination) or `difference` (T - R at each
     /// place: an overlay or flicker comparison) [default: as the design's layout shows the
     /// pairs: side by side; docs/predict.md].
-    #[arg(long, value_enum)]
-    pub decision: Option<Decision>,
+    #[arg(long, value_parser = named::<DecisionStage>())]
+    pub decision: Option<DecisionStage>,
     /// Fit k to these sessions (folders or logs) by maximum likelihood, report the
     /// leave-one-condition-out error, and write the prediction with the fitted k.
     #[arg(long, num_args = 1..)]
@@ -158,22 +161,6 @@ pub struct PredictArgs {
     /// Hide the progress bar.
     #[arg(long)]
     pub no_progress: bool,
-}
-
-/// `--decision`: the command line's names of `analysis::predict::video::Comparison`.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Decision {
-    Difference,
-    SideBySide,
-}
-
-impl From<Decision> for Comparison {
-    fn from(d: Decision) -> Self {
-        match d {
-            Decision::Difference => Self::Difference,
-            Decision::SideBySide => Self::SideBySide,
-        }
-    }
 }
 
 impl PredictArgs {
@@ -186,7 +173,7 @@ impl PredictArgs {
             sensitivity: self.sensitivity,
             distance_m: self.distance_m,
             viewer: self.viewer.clone(),
-            decision: self.decision.map(Comparison::from),
+            decision: self.decision,
             calibrate: self.calibrate.clone(),
         }
     }
@@ -274,6 +261,12 @@ mod tests {
         };
         assert_eq!(f.options(), FramesOptions::new(vec!["a.csv".into()]));
         let set = parse(&["s", "--decision", "side-by-side"]).args.unwrap();
-        assert_eq!(set.options().decision, Some(Comparison::SideBySide));
+        assert_eq!(set.options().decision, Some(DecisionStage::SideBySide));
+        let wrong = crate::cli::try_parse::<PredictCli>(&["predict", "s", "--decision", "overlay"]);
+        let e = wrong.expect_err("an unknown stage is refused").to_string();
+        assert!(
+            e.contains("difference") && e.contains("side-by-side"),
+            "{e}"
+        );
     }
 }

@@ -68,7 +68,7 @@ mod tests {
     #[test]
     fn the_thesis_session_adds_up() {
         let d = Design::load(
-            &Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/designs/thesis.json"),
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/thesis/design.json"),
         )
         .unwrap();
         // 7 s videos, one loop, fixation 0.5 s, gap 1 s, answer 2 s: 17.5 s per trial; 192 main
@@ -105,7 +105,7 @@ mod tests {
         let path = dir.path().join("manifest.json");
         std::fs::write(&path, serde_json::to_string(&m).unwrap()).unwrap();
         let mut d = Design::load(
-            &Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/designs/thesis.json"),
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/thesis/design.json"),
         )
         .unwrap();
         d.manifest_path = path;

@@ -3,7 +3,9 @@
 
 use super::duration::SessionDuration;
 use super::{Plan, TestRow};
-use crate::figures::{Drawable, FONT, PALETTE, register_font, save};
+use crate::figures::{
+    Drawable, FONT, PALETTE, err, legend, level_line, line_swatch, register_font, save,
+};
 use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -305,8 +307,7 @@ fn chart<DB: DrawingBackend>(
     series: &[(String, Vec<(f64, f64)>)],
     alpha: f64,
 ) -> Result<()> {
-    let err = |e: &dyn std::fmt::Debug| anyhow!("drawing failed: {e:?}");
-    root.fill(&WHITE).map_err(|e| err(&e))?;
+    root.fill(&WHITE).map_err(err)?;
     let xs: Vec<f64> = series
         .iter()
         .flat_map(|(_, p)| p.iter().map(|q| q.0))
@@ -318,39 +319,25 @@ fn chart<DB: DrawingBackend>(
         .x_label_area_size(45)
         .y_label_area_size(60)
         .build_cartesian_2d(0f64..x1, 0f64..1.02f64)
-        .map_err(|e| err(&e))?;
+        .map_err(err)?;
     c.configure_mesh()
         .x_desc("subjects")
         .y_desc("probability")
         .label_style((FONT, 14))
         .draw()
-        .map_err(|e| err(&e))?;
+        .map_err(err)?;
     for (y, colour) in [(0.8, RED), (alpha, GREEN)] {
-        c.draw_series(DashedLineSeries::new(
-            vec![(0.0, y), (x1, y)],
-            8,
-            5,
-            colour.stroke_width(1),
-        ))
-        .map_err(|e| err(&e))?;
+        c.draw_series(level_line(y, (0.0, x1), colour.stroke_width(1)))
+            .map_err(err)?;
     }
     for (i, (name, pts)) in series.iter().enumerate() {
         let colour = PALETTE[i % PALETTE.len()];
         c.draw_series(LineSeries::new(pts.clone(), colour.stroke_width(2)))
-            .map_err(|e| err(&e))?
+            .map_err(err)?
             .label(name.clone())
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
+            .legend(line_swatch(colour, 2));
         c.draw_series(pts.iter().map(|&p| Circle::new(p, 4, colour.filled())))
-            .map_err(|e| err(&e))?;
+            .map_err(err)?;
     }
-    c.configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 13))
-        .position(SeriesLabelPosition::LowerRight)
-        .draw()
-        .map_err(|e| err(&e))?;
-    Ok(())
+    legend(&mut c, 13, SeriesLabelPosition::LowerRight)
 }

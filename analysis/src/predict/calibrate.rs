@@ -13,9 +13,9 @@
 //! correct error, log-likelihood per trial against always guessing), so the error reported is
 //! a prediction error, not a fit.
 
-use super::decision::two_pair_p_correct;
 use super::stimuli::Prediction;
 use crate::data::{Dataset, Grouping};
+use crate::observer::model::proportion_correct::two_pair_p_correct;
 use anyhow::{Result, bail};
 use serde::Serialize;
 

@@ -1,14 +1,15 @@
 //! Where the model sees a difference, and what is there: for each frame of a pair, the place
-//! the aperture lands ([`super::pooling::Placement::MostVisible`]), the luminance, clipping and
+//! the aperture lands ([`crate::observer::model::pooling::Placement::MostVisible`]), the luminance, clipping and
 //! test-minus-reference difference under it, and how the frame's pooled difference
 //! (D^beta summed over the frame) splits over local adaptation luminance and clipped pixels.
 //! A diagnostic for a prediction that looks wrong (docs/predict.md, "What the model sees in
 //! the spheres"): it computes nothing the prediction does not, it only shows where.
 
-use super::display::Display;
-use super::pooling::{FITTED, Pooling, most_visible_at};
 use super::stimuli::mean_luminance;
-use super::video::{ADAPTATION_FLOOR, Filters, Viewing, frame_sums};
+use crate::observer::model::display::Display;
+use crate::observer::model::pooling::{FITTED, Pooling, most_visible_at};
+use crate::observer::model::shape;
+use crate::observer::model::video::{ADAPTATION_FLOOR, Filters, Viewing, frame_sums};
 use anyhow::{Context, Result, bail};
 use experiment::display::DisplaySpec;
 use experiment::frames::{VideoSource, load_frame};
@@ -124,7 +125,7 @@ pub fn pair(
         pixels_per_degree: d.pixels_per_degree,
         mean_luminance: mean_luminance(&r, &d)?.max(ADAPTATION_FLOOR as f64),
     };
-    let mut filters = Filters::new(viewing, FITTED.channels, super::shape::FITTED)?;
+    let mut filters = Filters::new(viewing, FITTED.channels, shape::FITTED)?;
     let e = explain(&mut filters, FITTED, &frames)?;
     Ok(markdown(&format!("{test} against {reference}"), &e))
 }
@@ -150,7 +151,7 @@ pub fn explain(
         .map(|(t, (sum, pair))| {
             let d: Vec<f32> = sum.iter().map(|&s| s.powf(r)).collect();
             let (best, x, y) = most_visible_at(&d, v.width, sd_px / pooling.space.sqrt());
-            let la = filters.adaptation(&pair.reference);
+            let la = filters.linear().adaptation(&pair.reference);
             let inside = |i: usize| {
                 let (dx, dy) = (
                     (i % v.width) as f64 - x as f64,
@@ -276,10 +277,9 @@ pub fn markdown(title: &str, frames: &[FrameExplanation]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::super::pooling::{FITTED, Grid, Placement};
-    use super::super::shape;
-    use super::super::video::{Viewing, frame_differences};
     use super::*;
+    use crate::observer::model::pooling::{Grid, Placement};
+    use crate::observer::model::video::frame_differences;
 
     /// A 96 x 96 frame at 32 ppd: a dark left half (5 cd/m^2) and a bright right half (100),
     /// with a +-1% checker of noise in an 11-pixel square at (70, 30) on the test only.

@@ -1,18 +1,20 @@
 //! A video's prediction from predictions of single frames spread over it.
 //!
 //! Rendering every frame of the thesis's 210-frame video at 768 x 768 and eight levels is
-//! beyond the shared machine, so `scenes/jobs/thesis_full_fNNN.json` render one frame each and
+//! beyond the shared machine, so the sets of `scenes/replication/sweep.txt` render one frame and
 //! `blurlab predict` predicts each such set alone. This file combines those predictions, as
-//! [`super::pooling::video_q`] pools a video's frames: per condition and level,
+//! [`video_q`] pools a video's frames: per condition and level,
 //! d'_video = (mean_f d'_f^beta)^(1/beta) over the frames f, with the model's time exponent beta
-//! ([`super::pooling::FITTED`]'s space exponent). The frames are a sample of the video, so this
+//! ([`FITTED`]'s space exponent). The frames are a sample of the video, so this
 //! mean estimates the pooled mean over all of its frames; the most visible frame (the limit
 //! beta -> infinity: an observer who waits for the worst moment) is reported beside it, and each
 //! frame's own JND. d' = k Q, so with one k in every file pooling d' is pooling Q.
+//!
+//! [`FITTED`]: crate::observer::model::pooling::FITTED
 
-use super::pooling::video_q;
 use super::stimuli::threshold;
 use crate::jnd::Threshold;
+use crate::observer::model::pooling::video_q;
 use anyhow::{Result, bail};
 use experiment::predicted::PredictedTable;
 use experiment::trials::Condition;

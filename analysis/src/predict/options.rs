@@ -5,12 +5,14 @@
 //! ([`FramesOptions`]), and the validation against ModelFest ([`validate_modelfest`]).
 
 use super::calibrate::{Calibration, calibrate, cells, markdown};
-use super::decision::DEFAULT_K;
 use super::output::{Files, write};
-use super::stage::Stage;
+use super::stage_choice::StageChoice;
 use super::stimuli::{PredictSettings, Prediction, predict, with_k};
-use super::video::Comparison;
 use crate::data::Dataset;
+use crate::observer::datasets::{meese, modelfest};
+use crate::observer::model::decision_stage::DecisionStage;
+use crate::observer::model::pooling::FITTED;
+use crate::observer::model::proportion_correct::DEFAULT_K;
 use anyhow::{Result, bail};
 use experiment::Design;
 use experiment::display::DisplaySpec;
@@ -82,7 +84,7 @@ impl FramesOptions {
     pub fn new(predictions: Vec<PathBuf>) -> Self {
         Self {
             predictions,
-            exponent: super::pooling::FITTED.space,
+            exponent: FITTED.space,
             out: None,
         }
     }
@@ -106,14 +108,14 @@ pub fn validate_modelfest(
     out: Option<&Path>,
     progress: &dyn Progress,
 ) -> Result<String> {
-    let stimuli = super::modelfest::load(dir)?;
-    let r = super::validate::responses(
+    let stimuli = modelfest::load(dir)?;
+    let r = modelfest::fit::responses(
         &stimuli,
-        &super::validate::grid(),
-        &super::validate::shapes(),
+        &modelfest::fit::grid(),
+        &modelfest::fit::shapes(),
         progress,
     )?;
-    let report = super::validate::markdown(&super::validate::validate(&stimuli, &r)?);
+    let report = modelfest::fit::markdown(&modelfest::fit::validate(&stimuli, &r)?);
     if let Some(out) = out {
         renderer::atomic::write_atomic(out, format!("{report}\n").as_bytes())?;
     }
@@ -129,8 +131,8 @@ pub fn validate_meese(
     out: Option<&Path>,
     progress: &dyn Progress,
 ) -> Result<String> {
-    let series = super::meese::load(dir)?;
-    let report = super::masking_validation::validate(&series, cross_weights, progress)?;
+    let series = meese::load(dir)?;
+    let report = meese::fit::validate(&series, cross_weights, progress)?;
     if let Some(out) = out {
         renderer::atomic::write_atomic(out, format!("{report}\n").as_bytes())?;
     }
@@ -154,8 +156,8 @@ pub struct PredictOptions {
     /// A browser session's log: the display at that subject's own pixels per degree.
     pub viewer: Option<PathBuf>,
     /// How the observer compares test and reference; `None`: as the design's layout shows the
-    /// pairs ([`Stage::for_layout`]).
-    pub decision: Option<Comparison>,
+    /// pairs ([`StageChoice::for_layout`]).
+    pub decision: Option<DecisionStage>,
     /// Fit k to these sessions (folders or logs) and write the prediction with the fitted k.
     pub calibrate: Vec<PathBuf>,
 }
@@ -195,9 +197,9 @@ pub fn run_predict(args: &PredictOptions, progress: &dyn Progress) -> Result<Out
     let settings = PredictSettings {
         display: display_spec(design.as_ref(), args.distance_m, args.viewer.as_deref())?,
         k: args.sensitivity,
-        stage: match args.decision {
-            Some(d) => Stage::given(d),
-            None => Stage::for_layout(design.as_ref().map(|d| d.file.layout)),
+        decision: match args.decision {
+            Some(d) => StageChoice::given(d),
+            None => StageChoice::for_layout(design.as_ref().map(|d| d.file.layout)),
         },
     };
     let mut prediction = predict(&args.stimuli, design.as_ref(), &settings, progress)?;

@@ -4,7 +4,10 @@
 //! point set and time filter, bars spanning the single frames' range).
 
 use super::stimuli::{ConditionPrediction, FrameSpread, Prediction};
-use crate::figures::{Drawable, FONT, PALETTE, err, file_safe, register_font, save, spp_axes};
+use crate::figures::{
+    Drawable, PALETTE, dodge, err, error_bar, file_safe, legend, level_line, line_swatch,
+    register_font, save, spp_axes,
+};
 use crate::jnd::Threshold;
 use anyhow::{Result, anyhow};
 use experiment::predicted::PredictedTable;
@@ -152,8 +155,8 @@ fn markdown_text(p: &Prediction) -> String {
         peak = d.peak_cd_m2,
         black = d.black_cd_m2,
         k = p.k,
-        stage = p.stage.name(),
-        reason = p.stage.reason,
+        stage = p.decision.stage,
+        reason = p.decision.reason,
         n = p.stimuli.len(),
         wall = p.wall_seconds,
         per = 1e3 * cpu / frames.max(1) as f64,
@@ -214,19 +217,13 @@ fn draw_scene<DB: DrawingBackend>(
     let (mut chart, (x0, x1)) = spp_axes(root, title, &ticks, 0.3, "predicted proportion correct")?;
     for (y, colour) in [(TARGET, RED), (0.5, GREEN)] {
         chart
-            .draw_series(DashedLineSeries::new(
-                vec![(x0, y), (x1, y)],
-                8,
-                5,
-                colour.stroke_width(2),
-            ))
+            .draw_series(level_line(y, (x0, x1), colour.stroke_width(2)))
             .map_err(err)?;
     }
-    let cap = 10f64.powf(0.02);
     for (i, c) in conds.iter().enumerate() {
         let colour = PALETTE[i % PALETTE.len()];
         let style = colour.stroke_width(2);
-        let dodge = 10f64.powf(0.03 * (i as f64 - 0.5 * (conds.len() as f64 - 1.0)));
+        let dodge = dodge(i, conds.len());
         let line: Vec<(f64, f64)> = c
             .points
             .iter()
@@ -239,20 +236,12 @@ fn draw_scene<DB: DrawingBackend>(
                 "{}/{} (bars: single frames)",
                 c.condition.point_set, c.condition.time_filter
             ))
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
+            .legend(line_swatch(colour, 2));
         chart
             .draw_series(line.iter().map(|&pt| Circle::new(pt, 4, colour.filled())))
             .map_err(err)?;
-        for (&(x, _), &(lo, hi)) in line.iter().zip(&c.frame_p) {
-            chart
-                .draw_series([
-                    PathElement::new(vec![(x, lo), (x, hi)], style),
-                    PathElement::new(vec![(x / cap, lo), (x * cap, lo)], style),
-                    PathElement::new(vec![(x / cap, hi), (x * cap, hi)], style),
-                ])
-                .map_err(err)?;
+        for (&(x, _), &span) in line.iter().zip(&c.frame_p) {
+            chart.draw_series(error_bar(x, span, style)).map_err(err)?;
         }
         if let Threshold::Value { spp } = c.jnd {
             chart
@@ -264,13 +253,5 @@ fn draw_scene<DB: DrawingBackend>(
                 .map_err(err)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 14))
-        .position(SeriesLabelPosition::LowerLeft)
-        .draw()
-        .map_err(err)?;
-    Ok(())
+    legend(&mut chart, 14, SeriesLabelPosition::LowerLeft)
 }

@@ -7,12 +7,14 @@
 //! choice of references; without one, every non-reference stimulus of the manifest against its
 //! scene's reference.
 
-use super::decision::two_pair_p_correct;
-use super::display::Display;
-use super::pooling::{FITTED, Grid, Placement, video_q};
-use super::stage::Stage;
-use super::video::{Filters, Viewing, frame_differences};
+use super::stage_choice::StageChoice;
 use crate::jnd::Threshold;
+use crate::observer::model::decision_stage::DecisionStage;
+use crate::observer::model::display::Display;
+use crate::observer::model::pooling::{FITTED, Grid, Placement, video_q};
+use crate::observer::model::proportion_correct::two_pair_p_correct;
+use crate::observer::model::shape;
+use crate::observer::model::video::{ADAPTATION_FLOOR, Filters, Viewing, frame_differences};
 use anyhow::{Context, Result, bail};
 use experiment::Design;
 use experiment::display::DisplaySpec;
@@ -33,8 +35,8 @@ pub struct PredictSettings {
     pub display: DisplaySpec,
     /// Sensitivity constant: d' = k Q.
     pub k: f64,
-    /// How test and reference are compared, and why ([`Stage::for_layout`] by default).
-    pub stage: Stage,
+    /// How test and reference are compared, and why ([`StageChoice::for_layout`] by default).
+    pub decision: StageChoice,
 }
 
 /// One test stimulus's prediction.
@@ -78,7 +80,7 @@ pub struct Prediction {
     pub pixels_per_degree: f64,
     pub k: f64,
     /// The decision stage that ran and why.
-    pub stage: Stage,
+    pub decision: StageChoice,
     pub stimuli: Vec<StimulusPrediction>,
     pub conditions: Vec<ConditionPrediction>,
     pub wall_seconds: f64,
@@ -210,7 +212,7 @@ pub fn predict(
         display: s.display.clone(),
         pixels_per_degree: display.pixels_per_degree,
         k: s.k,
-        stage: s.stage.clone(),
+        decision: s.decision.clone(),
         stimuli,
         conditions,
         wall_seconds: t0.elapsed().as_secs_f64(),
@@ -223,11 +225,11 @@ pub fn predict(
 struct FilterCache(Option<(Viewing, Filters)>);
 
 impl FilterCache {
-    /// The filters for `viewing` comparing as `stage` says, built unless they are the last.
-    fn get(&mut self, viewing: Viewing, stage: &Stage) -> Result<&mut Filters> {
+    /// The filters for `viewing` deciding with `stage`, built unless they are the last.
+    fn get(&mut self, viewing: Viewing, stage: DecisionStage) -> Result<&mut Filters> {
         if self.0.as_ref().is_none_or(|(v, _)| *v != viewing) {
-            let filters = Filters::new(viewing, FITTED.channels, super::shape::FITTED)?
-                .comparing(stage.comparison, FITTED.space);
+            let filters = Filters::new(viewing, FITTED.channels, shape::FITTED)?
+                .with_stage(stage, FITTED.space);
             self.0 = Some((viewing, filters));
         }
         Ok(&mut self.0.as_mut().expect("just set").1)
@@ -265,9 +267,9 @@ fn predict_pair(
         fps: test.fps,
         pixels_per_degree: display.pixels_per_degree,
         // A black reference has no adaptation level; the floor of the local adaptation applies.
-        mean_luminance: mean.max(super::video::ADAPTATION_FLOOR as f64),
+        mean_luminance: mean.max(ADAPTATION_FLOOR as f64),
     };
-    let filters = cache.get(viewing, &s.stage)?;
+    let filters = cache.get(viewing, s.decision.stage)?;
     let q_frames: Vec<f64> =
         frame_differences(filters, &Grid::one(FITTED), Placement::MostVisible, |i| {
             Ok((

@@ -1,4 +1,4 @@
-//! The design file (`scenes/designs/<name>.json`, format `blurlab-design/1`): which stimuli a
+//! The design file (`scenes/<study>/design.json`, format `blurlab-design/1`): which stimuli a
 //! study shows and how. Factors (scenes x point sets x time filters) and test levels pick the
 //! test videos by their manifest ids; every field past `seed` has a default (see
 //! `docs/experiment.md`). [`Design::load`] (`crate::design_load`) validates everything a session relies on,
@@ -535,12 +535,12 @@ pub(crate) mod tests {
 
     #[test]
     fn committed_designs_load() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/designs");
-        for name in ["demo.json", "thesis.json"] {
-            let d = Design::load(&root.join(name)).unwrap();
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+        for study in ["demo", "thesis", "adaptive"] {
+            let d = Design::load(&root.join(study).join("design.json")).unwrap();
             assert!(d.main_trial_count() > 0);
         }
-        let thesis = Design::load(&root.join("thesis.json")).unwrap();
+        let thesis = Design::load(&root.join("thesis/design.json")).unwrap();
         // The thesis: 2 scenes x 3 point sets x 8 levels x 4 repeats.
         assert_eq!(thesis.main_trial_count(), 192);
     }

@@ -212,7 +212,7 @@ pub struct SlopePrior {
 
 impl Default for SlopePrior {
     fn default() -> Self {
-        // The thesis observer's slope (scenes/observers/thesis.json), a factor e^0.5 either way.
+        // The thesis observer's slope (scenes/thesis/observer.json), a factor e^0.5 either way.
         Self {
             median: 1.5,
             sd_ln: 0.5,

@@ -55,7 +55,7 @@ impl SurfaceHit {
     /// A start point for a ray leaving the surface in direction `dir`: the hit point pushed off
     /// the surface along the geometric normal, towards `dir`'s side, by an amount that grows
     /// with the coordinates' magnitude (a fixed offset fails at coordinates in the thousands;
-    /// `../shared/notes/obvhs.md`).
+    /// `docs/geometry.md`, "Self-intersection").
     pub fn spawn_point(&self, dir: Vec3A) -> Vec3A {
         let eps = 1e-5 * (1.0 + self.point.abs().max_element());
         let side = if dir.dot(self.geometric_normal) >= 0.0 {

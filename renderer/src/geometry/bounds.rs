@@ -77,7 +77,7 @@ impl Bounds {
     /// Why: obvhs computes a face's parameter as `(b - o) * (1 / d)`, three roundings, so the
     /// computed entry and exit parameters are each off by at most `3u |b - o| / |d|` (to first
     /// order). A ray aimed exactly at a vertex that is a box corner has entry = exit, and those
-    /// errors can turn it into a miss (measured: `../shared/notes/obvhs.md`). Moving a face out
+    /// errors can turn it into a miss (measured: `docs/geometry.md`). Moving a face out
     /// by `delta` moves its parameter by `delta / |d|`, so `delta >= 3u |b - o|` suffices:
     /// `8 u M` covers ray origins with coordinates up to about `1.6 M` (rays starting in or
     /// near the object), and `slack` (callers pass a tiny fraction of the object's diagonal)

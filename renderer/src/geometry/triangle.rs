@@ -10,7 +10,7 @@
 //!
 //! Möller-Trumbore (the previous placeholder, and obvhs's own test) lacks that property: rays
 //! aimed at vertices and edge midpoints of a closed mesh escape through it
-//! (`../shared/notes/obvhs.md`).
+//! (`docs/geometry.md`, "Ray-triangle intersection").
 
 use super::Ray;
 use glam::Vec3A;

@@ -99,7 +99,7 @@ mod tests {
     fn script_has_array_directives_and_the_shard_command() {
         let s = script(
             "demo",
-            Path::new("/w/scenes/jobs/demo.json"),
+            Path::new("/w/scenes/demo/job.json"),
             Path::new("/w/stimuli"),
             &SlurmOptions {
                 command: vec!["/w/render".into()],
@@ -112,7 +112,7 @@ mod tests {
         assert!(s.contains("#SBATCH --array=1-8\n"));
         assert!(s.contains("#SBATCH --time=01:30:00\n"));
         assert!(s.contains(
-            "/w/render job /w/scenes/jobs/demo.json --out /w/stimuli --shard \"$TASK/8\""
+            "/w/render job /w/scenes/demo/job.json --out /w/stimuli --shard \"$TASK/8\""
         ));
     }
 

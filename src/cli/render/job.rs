@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// Render every stimulus of a job into <out>/<job name>/ (resumable; rerun to finish).
 #[derive(Debug, Args)]
 pub struct JobArgs {
-    /// The job file: JSON (format blurlab-job/1, e.g. scenes/jobs/demo.json) or the thesis's
+    /// The job file: JSON (format blurlab-job/1, e.g. scenes/demo/job.json) or the thesis's
     /// seven-line text (Figure 12, ending in .job).
     pub job: PathBuf,
     /// Render these scenes (JSON or .scene) instead of the job's; repeat for several. (Not

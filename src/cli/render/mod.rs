@@ -60,7 +60,7 @@ pub fn print_warnings(warnings: &[String]) {
 /// Renderer subcommands.
 #[derive(Debug, Subcommand)]
 pub enum RenderCommand {
-    /// Render a stimulus job (scenes/jobs/*.json, or a thesis .job) into stimuli/<job>/:
+    /// Render a stimulus job (scenes/<study>/job.json, or a thesis .job) into stimuli/<job>/:
     /// resumable, shardable.
     Job(job::JobArgs),
     /// Error against spp and render time of a rendered job: CSV and log-log plots.

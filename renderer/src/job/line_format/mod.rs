@@ -14,7 +14,7 @@ pub use write::write;
 /// The file extension of the format.
 pub const EXTENSION: &str = "job";
 
-/// Seed of a `.job` without a `seed` line (the thesis's year, as `scenes/jobs/thesis.json`).
+/// Seed of a `.job` without a `seed` line (the thesis's year, as `scenes/thesis/job.json`).
 pub const DEFAULT_SEED: u64 = 2013;
 
 /// What each of the seven lines holds, for messages.
