@@ -30,7 +30,7 @@ fn load_average() -> f64 {
 
 /// The thesis's video size, length and rate from the synthetic scene (drifting stripes and a
 /// highlight, filtered over pixel and shutter by the point set's samples: real Monte Carlo noise
-/// at low spp): one condition, a 1 spp test against a 4 spp reference, three main trials,
+/// at low spp): one condition, a 1 spp test against a 2 spp reference, three main trials,
 /// sequential pairs as in the thesis design with a shorter fixation and gap.
 fn thesis_sized(root: &Path) -> Study {
     let mut spec = StudySpec::tiny();
@@ -38,7 +38,7 @@ fn thesis_sized(root: &Path) -> Study {
     spec.scenes = vec!["alpha".into()];
     spec.point_sets = vec!["hammersley".into()];
     spec.levels = vec![1];
-    spec.reference_spp = 4;
+    spec.reference_spp = 2;
     (spec.width, spec.height, spec.frames, spec.fps) = (768, 768, 210, 30.0);
     spec.design = json!({
         "repeats": 3, "practice": {"trials": 0}, "break_every": 0, "layout": "sequential",
@@ -132,13 +132,17 @@ async fn a_thesis_sized_design_plays_exact_in_bounded_memory_without_dropped_fra
         peak <= PEAK_PSS_LIMIT,
         "Chromium's peak PSS {peak} B > {PEAK_PSS_LIMIT}"
     );
-    // Decoding in time needs the machine's cores: the timing targets are checked when the
-    // load average during playback stayed under the core count (other builds on a shared
-    // machine take the cores; docs/benchmarks/web.md says where the time goes then).
+    // Decoding in time needs the machine's cores. CI (BLURLAB_REQUIRE_BROWSER_TESTS=1) runs this
+    // test alone on its machine and always checks; elsewhere the timing targets are checked when
+    // the load average stayed within the core count plus this test's own share (its render just
+    // before playback keeps the 1-minute average above the core count for a while), and printed
+    // otherwise (other builds on a shared machine take the cores; docs/benchmarks/web.md says
+    // where the time goes then).
     let cores = std::thread::available_parallelism().map_or(2, |n| n.get()) as f64;
-    if load > cores {
+    let required = std::env::var(REQUIRE).is_ok_and(|v| v == "1");
+    if !required && load > cores + 1.0 {
         eprintln!(
-            "timing targets not checked: load average {load:.1} > {cores} cores (dropped \
+            "timing targets not checked: load average {load:.1} > {cores} cores + 1 (dropped \
              {dropped:?}, waits {waits:?} ms)"
         );
         return;
