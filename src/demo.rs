@@ -78,6 +78,9 @@ pub struct DemoOutput {
     pub frames_reused: u64,
     /// The analysis's summary (JND per scene and point set, test counts), for printing.
     pub jnd_summary: analysis::summary::Summary,
+    /// The scene JNDs beside the thesis's, and why a small demo may differ (the summary's
+    /// "Beside the thesis").
+    pub beside_thesis: Option<String>,
     /// The prediction from the stimuli (`results/demo/predict/`).
     pub prediction: analysis::predict::stimuli::Prediction,
     /// The observer's JND next to the recovered one, per pooled group.
@@ -149,6 +152,7 @@ pub fn run(args: &DemoOptions, progress: DemoProgress) -> Result<DemoOutput> {
     renderer::convergence::write_report(&stimuli, &convergence)?;
 
     let jnd_summary = analysis_report.summary();
+    let beside_thesis = crate::summary::beside_thesis(&jnd_summary, &manifest);
     let side_by_side =
         analysis::predict::compare::side_by_side(&analysis_report, &design, &observer);
     let summary = out.join("summary.md");
@@ -176,6 +180,7 @@ pub fn run(args: &DemoOptions, progress: DemoProgress) -> Result<DemoOutput> {
         frames_rendered,
         frames_reused,
         jnd_summary,
+        beside_thesis,
         prediction: predicted.prediction,
         side_by_side,
         observer: observer_path,

@@ -50,12 +50,84 @@ pub fn markdown(inp: &Inputs) -> Result<String> {
         inp.total_seconds
     )?;
     s.push_str(&inp.jnd.markdown());
+    if let Some(text) = beside_thesis(inp.jnd, manifest) {
+        writeln!(s, "## Beside the thesis\n\n{text}\n")?;
+    }
     if let Some(p) = &inp.prediction {
         prediction_section(&mut s, p)?;
     }
     error_at_jnd(&mut s, inp.jnd, &rows)?;
     speed_table(&mut s, &rows)?;
     Ok(s)
+}
+
+/// The thesis's scene JNDs as its Chapter IV states them ("the JND for the plane scene occurs
+/// close to halfway between 27 and 64 samples per pixel, while the JND for the spheres scene
+/// occurs close to 125"), with the study it measured them on.
+const THESIS_SCENES: [(&str, f64, &str); 2] = [
+    ("plane", 45.5, "about 45 spp (halfway between 27 and 64)"),
+    ("spheres", 125.0, "about 125 spp"),
+];
+const THESIS_SIZE: (u32, u32) = (768, 210);
+
+/// A number for a scene's JND: the crossing, or the middle of the step it lies in.
+fn jnd_number(t: &analysis::threshold::Threshold) -> Option<f64> {
+    use analysis::threshold::Threshold as T;
+    match t {
+        T::Value { spp } => Some(*spp),
+        T::Between { lower, upper } | T::AtLevel { lower, upper, .. } => {
+            Some(0.5 * f64::from(lower + upper))
+        }
+        _ => None,
+    }
+}
+
+/// The study's scene JNDs beside the thesis's, and, when its stimuli are not the thesis's size,
+/// why they may not agree; `None` unless the study has both thesis scenes.
+pub fn beside_thesis(jnd: &Summary, manifest: &Manifest) -> Option<String> {
+    let ours = THESIS_SCENES.map(|(scene, _, _)| {
+        jnd.rows
+            .iter()
+            .find(|r| r.grouping == analysis::data::Grouping::Scene && r.label == scene)
+    });
+    let [Some(plane), Some(spheres)] = ours else {
+        return None;
+    };
+    let first = manifest.stimuli.iter().find(|s| s.scene == "plane")?;
+    let (size, frames) = (first.width.max(first.height), first.frames);
+    let thesis = THESIS_SCENES
+        .map(|(scene, _, text)| format!("{scene} {text}"))
+        .join(", ");
+    let order = match (jnd_number(&plane.jnd), jnd_number(&spheres.jnd)) {
+        (Some(p), Some(s)) if s > p => "the same order as the thesis's (spheres above plane)",
+        (Some(_), Some(_)) => "**not** the thesis's order (there the spheres need more samples)",
+        _ => "an order that cannot be read (a JND outside the tested levels)",
+    };
+    let mut text = format!(
+        "The thesis ({}x{0} pixels, {} frames, 12 subjects): {thesis}. This study ({}x{} pixels, \
+         {frames} frames): plane {}, spheres {}: {order}.",
+        THESIS_SIZE.0,
+        THESIS_SIZE.1,
+        first.width,
+        first.height,
+        plane.jnd.display(),
+        spheres.jnd.display(),
+    );
+    if size < THESIS_SIZE.0 || frames < THESIS_SIZE.1 {
+        write!(
+            text,
+            " A smaller study may differ, and is not a replication: at {size} pixels across, \
+             each pixel covers about {:.0}x{0:.0} of the thesis's, so detail finer than that (the \
+             spheres' specular highlights and sky reflections, where their noise lives) is \
+             averaged inside a pixel before any noise is seen; {frames} frames show a fraction \
+             of the thesis's motion; and simulated subjects answer from a model's prediction, \
+             not from eyes. `blurlab render job scenes/thesis/job.json` renders the thesis's own \
+             stimuli (docs/replication.md: what the thesis-sized prediction gives).",
+            f64::from(THESIS_SIZE.0) / f64::from(size.max(1))
+        )
+        .ok()?;
+    }
+    Some(text)
 }
 
 fn prediction_section(s: &mut String, p: &PredictionInputs) -> Result<()> {

@@ -93,6 +93,19 @@ fn demo_writes_the_report_and_reuses_its_stimuli() {
         .map(|r| r.label.as_str())
         .collect();
     assert_eq!(scenes, ["plane", "spheres"]);
+    // The demo is 96x96 and 6 frames: the summary sets its scene JNDs beside the thesis's and
+    // says why a small study may differ (issue 51 item 7).
+    let beside = first
+        .beside_thesis
+        .as_deref()
+        .expect("plane and spheres: a comparison");
+    for needle in ["768x768", "about 125 spp", "96x96", "may differ"] {
+        assert!(
+            beside.contains(needle),
+            "{needle:?} missing from {beside:?}"
+        );
+    }
+    assert!(summary.contains("## Beside the thesis"), "{summary}");
 
     let second = run(&args, DemoProgress::NONE).unwrap();
     assert_eq!(second.frames_rendered, 0);

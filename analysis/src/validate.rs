@@ -99,6 +99,8 @@ pub fn check(
                      after the missing one cannot be checked (was a line deleted?)",
                     t.index
                 ));
+            } else if let Some(m) = design.is_none().then(|| id_problem(t)).flatten() {
+                problem(m);
             } else if let Some(m) = planned
                 .as_ref()
                 .and_then(|main| plan_problem(t, main.get(t.index as usize), &h.subject))
@@ -136,6 +138,31 @@ fn expected_main(d: &Design, log: &SessionLog) -> Vec<Trial> {
         expected.truncate(at);
     }
     expected
+}
+
+/// Without a design, the one check of a trial's condition there is: its test stimulus's id, when
+/// it is one the renderer names (`scene-point_set-time_filter-NNNN`), names the trial's own
+/// scene, point set, time filter and level. An edited field (a scene no design knows) is named
+/// with its line instead of becoming a group of its own. Ids of another form are not checked.
+fn id_problem(t: &TrialRecord) -> Option<String> {
+    use renderer::condition::{PointSetKind, TimeFilter};
+    let id = &t.test_stimulus;
+    let mut parts = id.rsplitn(4, '-');
+    let (spp, filter, points, scene) = (parts.next()?, parts.next()?, parts.next()?, parts.next()?);
+    let spp: u32 = spp.parse().ok().filter(|_| spp.len() >= 4)?;
+    let filter = TimeFilter::by_name(filter).ok()?;
+    let points = PointSetKind::by_name(points).ok()?;
+    let named = [
+        ("scene", scene.to_string(), t.scene.clone()),
+        ("point_set", points.to_string(), t.point_set.to_string()),
+        ("time_filter", filter.to_string(), t.time_filter.to_string()),
+        ("level", spp.to_string(), t.level.to_string()),
+    ];
+    let (field, want, got) = named.into_iter().find(|(_, want, got)| want != got)?;
+    Some(format!(
+        "field `{field}` is {got:?}, but the trial's `test_stimulus` {id:?} names {want:?}; was \
+         the log edited? (`--design` checks every trial against the design's plan)"
+    ))
 }
 
 /// How a trial's stimuli disagree with the manifest they were rendered into.
@@ -344,5 +371,31 @@ mod tests {
             "{}",
             found[0].message
         );
+    }
+
+    /// Without `--design`, a trial whose scene was edited to one no design knows is named with
+    /// its file and line (issue 51: it became a group of its own); the untouched log passes.
+    #[test]
+    fn without_a_design_an_edited_scene_is_named_by_its_line() {
+        let (dir, _) = simulated_subject();
+        let log_path = dir.path().join("s01.jsonl");
+        let log = SessionLog::read(&log_path).unwrap();
+        assert!(check(std::slice::from_ref(&log), None, None).is_empty());
+        let text = std::fs::read_to_string(&log_path).unwrap();
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        let k = 1 + 4 + 2;
+        let mut line: LogLine = serde_json::from_str(&lines[k]).unwrap();
+        let LogLine::Trial(t) = &mut line else {
+            panic!("line {k} is not a trial");
+        };
+        t.scene = "nosuch".into();
+        lines[k] = serde_json::to_string(&line).unwrap();
+        std::fs::write(&log_path, lines.join("\n") + "\n").unwrap();
+        let log = SessionLog::read(&log_path).unwrap();
+        let found = check(&[log], None, None);
+        assert_eq!(found.len(), 1, "{found:?}");
+        let m = &found[0].message;
+        assert!(m.contains(&format!("s01.jsonl:{}", k + 1)), "{m}");
+        assert!(m.contains("field `scene` is \"nosuch\""), "{m}");
     }
 }

@@ -9,6 +9,72 @@
 
 use anyhow::{Result, bail};
 use serde::{Deserialize, Serialize};
+use std::ops::RangeInclusive;
+
+/// Pixels per degree a prediction accepts. The observer's filters grow with it (a design at
+/// 1e308 m ran for minutes); 2,000 is 40 times the thesis's 46 and beyond any screen a subject
+/// sits at.
+pub const PIXELS_PER_DEGREE: RangeInclusive<f64> = 1.0..=2000.0;
+
+/// What a browser measures of a subject's display, and the range each fact must lie in (issue
+/// 51): `blurlab serve` refuses facts outside, and `blurlab predict --viewer` a log holding them.
+/// The ranges hold every real setting with room and no nonsense: a device pixel ratio from a
+/// zoomed-out desktop to a phone; device pixels per millimetre from a 0.8 mm-pitch wall display to
+/// a 1,000 dpi phone; eye to screen from a hand-held phone to across a room; a refresh interval
+/// from a 500 Hz gaming monitor to a 10 Hz stall.
+pub const BROWSER_RANGES: [(&str, RangeInclusive<f64>); 4] = [
+    ("device_pixel_ratio", 0.25..=8.0),
+    ("px_per_mm", 1.0..=40.0),
+    ("viewing_distance_mm", 100.0..=3000.0),
+    ("refresh_interval_ms", 2.0..=100.0),
+];
+
+/// How far the browser's own `pixels_per_degree` may lie from px/mm x 2 d tan(0.5 deg), as a
+/// fraction of the latter: the client computes it from the same two numbers, so only rounding
+/// separates them; 1% allows for a client that rounds to whole pixels at low resolutions.
+pub const PIXELS_PER_DEGREE_TOLERANCE: f64 = 0.01;
+
+/// Pixels per degree from a screen pitch and a viewing distance: one degree spans
+/// 2 d tan(0.5 deg) at the screen's centre.
+pub fn pixels_per_degree(px_per_mm: f64, viewing_distance_mm: f64) -> f64 {
+    px_per_mm * 2.0 * viewing_distance_mm * 0.5f64.to_radians().tan()
+}
+
+/// `value` of field `name` inside its range in [`BROWSER_RANGES`] (a name not listed is not
+/// checked); the message names the field and the range.
+pub fn check_browser_fact(name: &str, value: f64) -> Result<(), String> {
+    let Some((_, range)) = BROWSER_RANGES.iter().find(|(n, _)| *n == name) else {
+        return Ok(());
+    };
+    if value.is_finite() && range.contains(&value) {
+        return Ok(());
+    }
+    Err(format!(
+        "field `{name}` is {}; expected {} to {}",
+        renderer::limits::shortest(value),
+        range.start(),
+        range.end()
+    ))
+}
+
+/// A logged or sent `pixels_per_degree` consistent with its px/mm and distance.
+pub fn check_pixels_per_degree(
+    px_per_mm: f64,
+    distance_mm: f64,
+    logged: f64,
+) -> Result<(), String> {
+    let expected = pixels_per_degree(px_per_mm, distance_mm);
+    if logged.is_finite() && (logged - expected).abs() <= PIXELS_PER_DEGREE_TOLERANCE * expected {
+        return Ok(());
+    }
+    Err(format!(
+        "field `pixels_per_degree` is {}, but `px_per_mm` {} at `viewing_distance_mm` {} gives \
+         {expected:.2} (px/mm x 2 d tan(0.5 deg)); expected within 1% of it",
+        renderer::limits::shortest(logged),
+        renderer::limits::shortest(px_per_mm),
+        renderer::limits::shortest(distance_mm),
+    ))
+}
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
@@ -71,6 +137,15 @@ impl DisplaySpec {
                 self.resolution
             );
         }
+        let ppd = self.pixels_per_degree();
+        if !PIXELS_PER_DEGREE.contains(&ppd) {
+            bail!(
+                "fields `display.diagonal_inches`, `display.resolution` and `display.distance_m` \
+                 give {ppd:.3e} pixels per degree; expected {} to {}",
+                PIXELS_PER_DEGREE.start(),
+                PIXELS_PER_DEGREE.end()
+            );
+        }
         if !(self.black_cd_m2.is_finite()
             && self.black_cd_m2 >= 0.0
             && self.black_cd_m2 < self.peak_cd_m2)
@@ -110,6 +185,43 @@ mod tests {
                 .unwrap_err()
                 .to_string()
                 .contains("display.black_cd_m2")
+        );
+    }
+
+    #[test]
+    fn a_viewing_distance_past_any_room_is_refused_before_the_observer_runs() {
+        for distance_m in [1e308, 1e6] {
+            let d = DisplaySpec {
+                distance_m,
+                ..DisplaySpec::default()
+            };
+            let e = d.validate().unwrap_err().to_string();
+            assert!(
+                e.contains("display.distance_m") && e.contains("pixels per degree"),
+                "{e}"
+            );
+        }
+    }
+
+    #[test]
+    fn browser_facts_are_checked_against_their_ranges() {
+        assert!(check_browser_fact("viewing_distance_mm", 600.0).is_ok());
+        for (name, bad) in [
+            ("viewing_distance_mm", 1e308),
+            ("viewing_distance_mm", 0.0),
+            ("px_per_mm", f64::NAN),
+            ("device_pixel_ratio", -1.0),
+            ("refresh_interval_ms", 0.0),
+        ] {
+            let e = check_browser_fact(name, bad).unwrap_err();
+            assert!(e.contains(&format!("`{name}`")), "{e}");
+        }
+        let ppd = pixels_per_degree(3.78, 600.0);
+        assert!(check_pixels_per_degree(3.78, 600.0, ppd * 1.005).is_ok());
+        let e = check_pixels_per_degree(3.78, 600.0, ppd * 2.0).unwrap_err();
+        assert!(
+            e.contains("`pixels_per_degree`") && e.contains("`px_per_mm`"),
+            "{e}"
         );
     }
 }

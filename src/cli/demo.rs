@@ -59,6 +59,9 @@ pub fn run(args: &DemoArgs) -> anyhow::Result<()> {
     };
     let out = blurlab::demo::run(&args.options(), progress)?;
     println!("\n{}\n", out.jnd_summary);
+    if let Some(text) = &out.beside_thesis {
+        println!("{text}\n");
+    }
     println!(
         "{}",
         analysis::predict::compare::markdown(

@@ -9,7 +9,7 @@
 //! shown 1:1, so a video pixel is a device pixel).
 
 use anyhow::{Result, bail};
-use experiment::display::DisplaySpec;
+use experiment::display::{self, DisplaySpec};
 use experiment::log::{BrowserDisplay, SessionLog};
 use std::path::Path;
 
@@ -24,10 +24,31 @@ pub fn display_for_session(log: &Path, base: &DisplaySpec) -> Result<DisplaySpec
             read.header.mode
         );
     };
+    check_geometry(&browser)
+        .map_err(|e| anyhow::anyhow!("{}: header `display.browser`: {e}", log.display()))?;
     let d = with_geometry(base, &browser);
     d.validate()
         .map_err(|e| anyhow::anyhow!("{}: display.browser: {e}", log.display()))?;
     Ok(d)
+}
+
+/// The log's own geometry fields in range, named as the log names them, before anything is
+/// derived from them (a distance of 1e308 mm once ran the observer for minutes).
+fn check_geometry(b: &BrowserDisplay) -> Result<(), String> {
+    for (name, value) in [
+        ("px_per_mm", b.px_per_mm),
+        ("viewing_distance_mm", b.viewing_distance_mm),
+        ("device_pixel_ratio", b.device_pixel_ratio),
+    ] {
+        display::check_browser_fact(name, value)?;
+    }
+    if b.window_px.contains(&0) {
+        return Err(format!(
+            "field `window_px` is {:?}; expected [width, height] in device pixels",
+            b.window_px
+        ));
+    }
+    display::check_pixels_per_degree(b.px_per_mm, b.viewing_distance_mm, b.pixels_per_degree)
 }
 
 /// `base` with the browser's screen pitch and viewing distance.
@@ -115,6 +136,39 @@ mod tests {
         let e = display_for_session(&path, &DisplaySpec::default())
             .unwrap_err()
             .to_string();
-        assert!(e.contains("web.jsonl") && e.contains("distance_m"), "{e}");
+        assert!(
+            e.contains("web.jsonl") && e.contains("`viewing_distance_mm`"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn every_geometry_field_out_of_range_is_named_as_the_log_names_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("web.jsonl");
+        let cases: [(&str, fn(&mut BrowserDisplay)); 5] = [
+            ("viewing_distance_mm", |b| b.viewing_distance_mm = 1e308),
+            ("viewing_distance_mm", |b| b.viewing_distance_mm = 60_000.0),
+            ("px_per_mm", |b| b.px_per_mm = 1e-9),
+            ("window_px", |b| b.window_px = [0, 700]),
+            ("pixels_per_degree", |b| b.pixels_per_degree *= 3.0),
+        ];
+        for (field, spoil) in cases {
+            let mut b = browser(3.0, 333.0);
+            spoil(&mut b);
+            let header = serde_json::json!({
+                "kind": "header", "format": "blurlab-session/1", "subject": "s1", "session": 1,
+                "design": "d", "design_hash": "h", "seed": 1, "app_version": "blurlab test",
+                "mode": "web", "started_unix": 0.0, "trials_planned": 4,
+                "display": {"width": 1000, "height": 700, "pixels_per_point": 1.0,
+                            "refresh_interval_ms": 16.7, "browser": b},
+            });
+            std::fs::write(&path, format!("{header}\n")).unwrap();
+            let e = display_for_session(&path, &DisplaySpec::default())
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(&format!("`{field}`")), "{field}: {e}");
+            assert!(!e.contains("diagonal_inches"), "{e}");
+        }
     }
 }

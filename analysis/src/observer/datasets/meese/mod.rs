@@ -85,6 +85,8 @@ pub fn load(dir: &Path) -> Result<Vec<Series>> {
     })?;
     let mut out: Vec<Series> = Vec::new();
     let mut no_mask_line: Vec<Option<usize>> = Vec::new();
+    // (series, mask contrast, line) of every masked row, to refuse a row given twice.
+    let mut masked_lines: Vec<(usize, f64, usize)> = Vec::new();
     for (i, row) in reader.deserialize::<Row>().enumerate() {
         let line = i + 2;
         let at = || format!("{} line {line}", path.display());
@@ -118,6 +120,20 @@ pub fn load(dir: &Path) -> Result<Vec<Series>> {
             no_mask_line[k] = Some(line);
             out[k].no_mask = row.threshold_contrast;
         } else {
+            if let Some(&(_, _, first)) = masked_lines
+                .iter()
+                .find(|&&(j, mask, _)| j == k && mask == row.mask_contrast)
+            {
+                bail!(
+                    "{}: a second threshold for observer {} at {} c/deg with mask_contrast {}; \
+                     the first is on line {first} (each mask contrast once per series)",
+                    at(),
+                    row.observer,
+                    row.spatial_frequency_cpd,
+                    row.mask_contrast
+                );
+            }
+            masked_lines.push((k, row.mask_contrast, line));
             out[k].masked.push(Point {
                 mask: row.mask_contrast,
                 threshold: row.threshold_contrast,
@@ -454,6 +470,12 @@ mod tests {
         );
         let e = err(&format!("{HEADER}A,1,0,0.01\nA,1,0,0.02\nA,1,0.1,0.02\n"));
         assert!(e.contains("line 3") && e.contains("line 2"), "{e}");
+        // The same masked row twice (a copy-paste slip would otherwise weigh it double).
+        let e = err(&format!(
+            "{HEADER}A,1,0,0.01\nA,1,0.1,0.02\nB,1,0.1,0.02\nA,1,0.1,0.03\n"
+        ));
+        assert!(e.contains("line 5") && e.contains("line 3"), "{e}");
+        assert!(e.contains("mask_contrast 0.1"), "{e}");
         // A series without its no-mask row, or without a mask.
         let e = err(&format!("{HEADER}A,1,0.1,0.02\n"));
         assert!(e.contains("observer A") && e.contains("0 no-mask"), "{e}");
