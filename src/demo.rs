@@ -110,13 +110,13 @@ pub fn run(args: &DemoOptions, progress: DemoProgress) -> Result<DemoOutput> {
     experiment::preflight::preflight(&design, checks, &NoProgress).into_result()?;
 
     eprintln!("[3/5] predicting visibility from the stimuli");
-    let predicted = analysis::predict::options::run_predict(
-        &analysis::predict::options::PredictOptions {
+    let predicted = analysis::predict::run::run_predict(
+        &analysis::predict::run::PredictOptions {
             design: Some(root.join(DESIGN)),
             out: Some(out.join("predict")),
             // decision None: the stage the demo design's layout gets (sequential: the
             // side-by-side stage, analysis::predict::stage_choice).
-            ..analysis::predict::options::PredictOptions::new(stimuli.clone())
+            ..analysis::predict::run::PredictOptions::new(stimuli.clone())
         },
         progress.predict,
     )?;

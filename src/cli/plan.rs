@@ -1,9 +1,9 @@
 //! `blurlab plan --design D --observer O --subjects 4,8,12,16,24 --replications R`: the flags
-//! of `analysis::plan::options::PlanOptions`, whose defaults they repeat (a test checks that
+//! of `analysis::plan::study::PlanOptions`, whose defaults they repeat (a test checks that
 //! they agree).
 
 use crate::cli::progress::{Look, Terminal};
-use analysis::plan::options::{PlanOptions, plan_study};
+use analysis::plan::study::{PlanOptions, plan_study};
 use anyhow::Result;
 use clap::Args;
 use renderer::limits::real;

@@ -1,5 +1,5 @@
 //! `blurlab predict <stimulus set>`, `predict validate modelfest|meese2007 DIR`, `predict frames`,
-//! `predict explain`: the flags of `analysis::predict::options`, whose defaults they repeat (a
+//! `predict explain`: the flags of `analysis::predict::run`, whose defaults they repeat (a
 //! test checks that they agree), and what each prints.
 
 use super::named::named;
@@ -8,7 +8,7 @@ use analysis::observer::datasets::meese::fit::CROSS_WEIGHTS;
 use analysis::observer::model::decision_stage::DecisionStage;
 use analysis::observer::model::pooling::FITTED;
 use analysis::observer::model::proportion_correct::DEFAULT_K;
-use analysis::predict::options::{
+use analysis::predict::run::{
     ExplainOptions, FramesOptions, PredictOptions, combine_frames, explain, run_predict,
     validate_meese, validate_modelfest,
 };

@@ -13,9 +13,9 @@
 
 pub mod duration;
 pub mod equivalence;
-pub mod options;
 pub mod output;
 pub mod replicate;
+pub mod study;
 
 use crate::bootstrap::Bound;
 use crate::data::{GroupKey, Grouping};

@@ -12,7 +12,7 @@
 //! | `viewer` | a browser session's display: the subject's own pixels per degree |
 //! | `calibrate` | the sensitivity constant fitted to real sessions, leave-one-condition-out |
 //! | `compare` | the predicted JNDs beside a study's measured ones |
-//! | `options` | what `blurlab predict` and its subcommands are asked to do, run end to end |
+//! | `run` | what `blurlab predict` and its subcommands are asked to do, run end to end |
 //!
 //! `docs/predict.md` describes the model, its choices and what it cannot know.
 
@@ -20,9 +20,9 @@ pub mod calibrate;
 pub mod compare;
 pub mod explain;
 pub mod frames;
-pub mod options;
 pub mod output;
 pub mod preflight;
+pub mod run;
 pub mod stage_choice;
 pub mod stimuli;
 pub mod viewer;
