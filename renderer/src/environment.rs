@@ -16,6 +16,9 @@
 //! them (`environment.negatives`, `docs/limits.md`).
 
 mod lanes;
+mod texels;
+
+use texels::Texels;
 
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
@@ -55,8 +58,8 @@ crate::named!(NegativeTexels, "negative texel policy", [Clamp => "clamp", Refuse
 pub struct Environment {
     width: usize,
     height: usize,
-    /// Row-major texels, three floats (r, g, b) each: the decoder's own buffer, not copied.
-    texels: Vec<f32>,
+    /// Row-major texels: four bytes each where that is exact, else three floats (`texels`).
+    texels: Texels,
     intensity: f32,
     /// cos and sin of the map's turn about +y.
     turn: (f32, f32),
@@ -119,7 +122,7 @@ impl Environment {
             Self {
                 width,
                 height,
-                texels,
+                texels: Texels::new(texels),
                 intensity,
                 turn: (r.cos(), r.sin()),
             },
@@ -187,10 +190,7 @@ impl Environment {
         let (c0, c1) = (col(x0 as i64), col(x0 as i64 + 1));
         let r0 = y0 as usize;
         let r1 = (r0 + 1).min(self.height - 1);
-        let at = |r: usize, c: usize| {
-            let i = 3 * (r * self.width + c);
-            Vec3::from_slice(&self.texels[i..i + 3])
-        };
+        let at = |r: usize, c: usize| self.texels.get(r * self.width + c);
         let top = at(r0, c0).lerp(at(r0, c1), ax);
         let bottom = at(r1, c0).lerp(at(r1, c1), ax);
         top.lerp(bottom, ay)
@@ -443,7 +443,7 @@ mod tests {
                 flat[at] = bad;
                 let (env, r) = Environment::from_flat(w, h, flat, 1.0, 0.0);
                 assert_eq!(r.nan + r.too_large + r.negative, 1, "value {bad} at {at}");
-                assert!((0.0..=MAX_RADIANCE).contains(&env.texels[at]));
+                assert!((0.0..=MAX_RADIANCE).contains(&env.texels.floats()[at]));
             }
         }
     }
@@ -467,8 +467,9 @@ mod tests {
             }
         );
         assert!(r.negative_share > 0.0 && r.negative_share < 1e-3);
-        assert!(env.texels.iter().all(|t| t.is_finite() && *t >= 0.0));
-        assert!(env.texels.iter().all(|t| *t <= MAX_RADIANCE));
+        let texels = env.texels.floats();
+        assert!(texels.iter().all(|t| t.is_finite() && *t >= 0.0));
+        assert!(texels.iter().all(|t| *t <= MAX_RADIANCE));
         for d in [Vec3A::X, Vec3A::Y, Vec3A::NEG_Z, Vec3A::ZERO, Vec3A::NAN] {
             assert!(env.radiance(d).is_finite());
         }
@@ -494,7 +495,7 @@ mod tests {
             w.contains("1 negative texel values") && w.contains("clamped to 0"),
             "{w}"
         );
-        assert!(env.texels.iter().all(|t| *t >= 0.0));
+        assert!(env.texels.floats().iter().all(|t| *t >= 0.0));
         let e = Environment::load(&path, 1.0, 0.0, Some(NegativeTexels::Refuse)).unwrap_err();
         assert!(format!("{e:#}").contains("map.exr"), "{e:#}");
         texels[5][1] = -2.0;

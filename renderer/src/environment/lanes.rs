@@ -71,7 +71,7 @@ impl Environment {
     /// channel in lanes; zero in the other lanes.
     #[inline(always)]
     fn corner_texels(&self, x0: &[f32; LANES], y0: &[f32; LANES], live: u32) -> [V3; 4] {
-        let mut t = [[[0.0f32; LANES]; 3]; 4];
+        let mut at = [[0usize; LANES]; 4];
         let col = |x: i64| wrap_column(x, self.width);
         for i in (0..LANES).filter(|i| live & (1 << i) != 0) {
             let (c0, c1) = (col(x0[i] as i64), col(x0[i] as i64 + 1));
@@ -81,13 +81,10 @@ impl Environment {
                 .into_iter()
                 .enumerate()
             {
-                let at = 3 * (r * self.width + c);
-                for (ch, value) in self.texels[at..at + 3].iter().enumerate() {
-                    t[k][ch][i] = *value;
-                }
+                at[k][i] = r * self.width + c;
             }
         }
-        t.map(|corner| corner.map(Lane::new))
+        self.texels.gather(&at, live)
     }
 }
 
@@ -108,16 +105,30 @@ mod tests {
     use crate::hash::{hash, unit_f32};
     use glam::{Vec3, Vec3A};
 
-    /// A 64 x 32 map of distinct texels, turned by 30 degrees, intensity 1.5.
-    fn map() -> Environment {
+    /// 64 x 32 maps of distinct texels, turned by 30 degrees, intensity 1.5: any floats (kept
+    /// as floats), and the 8-bit mantissas of a Radiance map (packed).
+    fn maps() -> [Environment; 2] {
         let (w, h) = (64, 32);
-        let px = (0..w * h)
-            .map(|i| {
-                let f = |k: u64| unit_f32(hash(9, &[i as u64, k])) * 10.0;
-                Vec3::new(f(0), f(1), f(2))
-            })
-            .collect();
-        Environment::new(w, h, px, 1.5, 30.0).0
+        let texels = |packed: bool| {
+            (0..w * h)
+                .map(|i| {
+                    let f = |k: u64| unit_f32(hash(9, &[i as u64, k])) * 10.0;
+                    let v = Vec3::new(f(0), f(1), f(2));
+                    match packed {
+                        false => v,
+                        true => (v * 16.0).floor() / 16.0,
+                    }
+                })
+                .collect()
+        };
+        [false, true].map(|packed| {
+            let env = Environment::new(w, h, texels(packed), 1.5, 30.0).0;
+            assert_eq!(
+                matches!(env.texels, super::super::Texels::Packed(_)),
+                packed
+            );
+            env
+        })
     }
 
     /// Directions of every kind: random ones of any length, the poles, the seam (u = 0 and 1,
@@ -150,8 +161,13 @@ mod tests {
 
     #[test]
     fn lanes_are_the_scalar_lookup_to_the_bit() {
-        let env = map();
         let dirs = directions();
+        for env in maps() {
+            lookups_in_lanes_are_scalar_lookups(&env, &dirs);
+        }
+    }
+
+    fn lookups_in_lanes_are_scalar_lookups(env: &Environment, dirs: &[Vec3A]) {
         for (n, group) in dirs.chunks(LANES).enumerate() {
             let axis = |k: usize| Lane::new(std::array::from_fn(|i| group[i % group.len()][k]));
             // Every other group leaves a lane out, which must come back zero.
