@@ -245,6 +245,20 @@ impl Online {
         })
     }
 
+    /// The query a platform's study URL ends with: its placeholders for the ids (MTurk adds
+    /// its own), or `?PARAM=<id>` for a custom one.
+    pub fn study_query(&self) -> String {
+        match (self.platform, &self.id_param) {
+            (Platform::Prolific, None) => {
+                "?PROLIFIC_PID={{%PROLIFIC_PID%}}&STUDY_ID={{%STUDY_ID%}}&SESSION_ID={{%SESSION_ID%}}"
+                    .into()
+            }
+            (Platform::Sona, None) => "?id=%SURVEY_CODE%".into(),
+            (Platform::Mturk, None) => String::new(),
+            _ => format!("?{}=<participant id>", self.id_param()),
+        }
+    }
+
     pub fn validate(&self) -> Result<()> {
         check_param_name("online.id_param", &self.id_param())?;
         for p in self.params() {
