@@ -13,6 +13,7 @@ pub mod export;
 pub mod guard;
 pub mod packs;
 pub mod participant;
+mod redirect;
 mod stream;
 pub mod study;
 pub mod subject;

@@ -178,29 +178,6 @@ impl Subject {
             .get_or_insert_with(|| reason.replace('_', " "));
         Ok(self.current_state(study))
     }
-
-    /// The participant's id on the platform (for `{id}` in the URLs), else the subject's name.
-    pub fn platform_id(&self, study: &Study) -> String {
-        study
-            .design
-            .file
-            .online
-            .as_ref()
-            .and_then(|o| self.participant.ids.get(&o.id_param()).cloned())
-            .unwrap_or_else(|| self.name.clone())
-    }
-}
-
-/// Where the browser goes now: the screen-out URL once screened out, the completion URL once
-/// done (codes and id filled in).
-pub fn redirect(study: &Study, s: &Subject, phase: &str) -> Option<String> {
-    let o = study.design.file.online.as_ref()?;
-    let (url, code) = match phase {
-        "screened_out" => (o.screen_out_url.as_ref()?, &o.screen_out_code),
-        "done" => (o.completion_url.as_ref()?, &o.completion_code),
-        _ => return None,
-    };
-    Some(Online::fill(url, code.as_deref(), &s.platform_id(study)))
 }
 
 pub fn now_unix() -> f64 {

@@ -483,7 +483,7 @@ impl Subject {
             pairs: [1u8, 2].map(|p| [Side::Left, Side::Right].map(|s| self.id(t.video(p, s)))),
         });
         let ahead = self.ahead(study, session);
-        let redirect = super::participant::redirect(study, self, phase);
+        let redirect = super::redirect::redirect(study, &self.participant, &self.name, phase);
         State {
             redirect,
             phase: phase.into(),
