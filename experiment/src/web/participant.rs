@@ -10,7 +10,7 @@ use super::subject::Subject;
 use super::wire::State;
 use super::{App, tokens};
 use crate::design::online::Online;
-use crate::log::Consent;
+use crate::log::{Consent, SessionLog};
 use axum::http::StatusCode;
 use std::collections::{BTreeMap, HashMap};
 
@@ -131,6 +131,25 @@ pub(crate) fn persist(app: &App, s: &Subject) -> Result<(), ApiError> {
 }
 
 impl Subject {
+    /// The design's exclusion criteria the log fails so far (an unfinished session is not
+    /// flagged while it runs).
+    pub(super) fn flags(&self, study: &Study, started: bool) -> Vec<String> {
+        let Some(c) = study.design.file.exclusion.as_ref().filter(|_| started) else {
+            return Vec::new();
+        };
+        let c = crate::design::online::Exclusion {
+            require_finished: false,
+            ..c.clone()
+        };
+        match SessionLog::read(&self.log_path) {
+            Ok(log) => crate::screening::facts(std::slice::from_ref(&log))
+                .first()
+                .map(|f| crate::screening::reasons(f, &c))
+                .unwrap_or_default(),
+            Err(_) => Vec::new(),
+        }
+    }
+
     /// The participant's answer to the consent text: agreed, logged in the header when the
     /// session starts; declined, screened out (no log is ever written).
     pub fn consent(&mut self, study: &Study, tab: &str, accept: bool) -> Result<State, ApiError> {

@@ -81,7 +81,7 @@ pub struct SubjectProgress {
 #[derive(Debug)]
 pub struct Subject {
     pub name: String,
-    log_path: PathBuf,
+    pub(super) log_path: PathBuf,
     session: Option<Session>,
     /// `start` was called in this run (header or resume line written).
     started: bool,
@@ -206,25 +206,6 @@ impl Subject {
                 .and_then(|o| self.participant.ids.get(&o.id_param()).cloned()),
             screened_out: self.screened_out.clone(),
             flags: self.flags(study, started),
-        }
-    }
-
-    /// The design's exclusion criteria the log fails so far (an unfinished session is not
-    /// flagged while it runs).
-    fn flags(&self, study: &Study, started: bool) -> Vec<String> {
-        let Some(c) = study.design.file.exclusion.as_ref().filter(|_| started) else {
-            return Vec::new();
-        };
-        let c = crate::design::online::Exclusion {
-            require_finished: false,
-            ..c.clone()
-        };
-        match SessionLog::read(&self.log_path) {
-            Ok(log) => crate::screening::facts(std::slice::from_ref(&log))
-                .first()
-                .map(|f| crate::screening::reasons(f, &c))
-                .unwrap_or_default(),
-            Err(_) => Vec::new(),
         }
     }
 
