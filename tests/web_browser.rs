@@ -352,3 +352,159 @@ async fn reload_resumes_at_the_next_trial_and_a_second_tab_is_refused() {
         "every main trial exactly once across the reload"
     );
 }
+
+/// A platform study (issue 49) on `port`: consent and debriefing texts, catch trials, the
+/// completion and screen-out URLs on this server, and `refresh_hz` as the screening range.
+fn platform_study(root: &Path, port: u16, refresh_hz: [f64; 2]) -> Study {
+    let mut spec = StudySpec::tiny();
+    spec.design = json!({
+        "repeats": 1, "practice": {"trials": 1}, "break_every": 0,
+        "playback": {"fixation_ms": 100, "gap_ms": 100, "spacing_px": 8},
+        "catch_trials": {"rate": 0.25},
+        "online": {"platform": "prolific",
+                   "completion_url": format!("http://127.0.0.1:{port}/complete?cc={{code}}"),
+                   "completion_code": "C0MPLETE",
+                   "screen_out_url": format!("http://127.0.0.1:{port}/screened?cc={{code}}"),
+                   "screen_out_code": "SCREENED",
+                   "consent": "consent.txt", "debriefing": "debriefing.txt",
+                   "screening": {"refresh_hz": refresh_hz}},
+    });
+    std::fs::create_dir_all(root).unwrap();
+    std::fs::write(root.join("consent.txt"), "You agree to take part.").unwrap();
+    std::fs::write(root.join("debriefing.txt"), "The study measured noise.").unwrap();
+    write_study(root, &spec).expect("the fixture study renders")
+}
+
+/// Serve `study` with open enrolment on `port`; its study link, without the query.
+async fn serve_platform(study: &Study, out: &Path, port: u16) -> (Served, String) {
+    let mut config = config(&study.design_path, out, 1, Default::default());
+    config.enrol = None;
+    config.open_enrolment = Some(10);
+    config.addr = format!("127.0.0.1:{port}").parse().unwrap();
+    let served = serve_config(config).await;
+    let join = served.join_url.clone().expect("open enrolment");
+    (served, join)
+}
+
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .unwrap()
+        .port()
+}
+
+/// Answer the consent screen with `key` and wait until the page leaves it.
+async fn answer_consent(b: &Browser, key: char) {
+    b.key(key).await;
+    let t0 = Instant::now();
+    while b.screen().await.0 == "consent" {
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "the consent screen stays"
+        );
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+}
+
+/// Press `key` at the current screen (again every 300 ms: the page ignores keys for a moment
+/// after showing an end screen) until the page is at `url`.
+async fn leave_for(b: &Browser, key: char, url: &str) {
+    let t0 = Instant::now();
+    loop {
+        let now = b.client.current_url().await.unwrap().to_string();
+        if now == url {
+            return;
+        }
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "at {now}, not {url}"
+        );
+        b.key(key).await;
+        tokio::time::sleep(Duration::from_millis(300)).await;
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_prolific_participant_consents_completes_and_lands_on_the_completion_url() {
+    if !browser_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let port = free_port();
+    let study = platform_study(&dir.path().join("a"), port, [20.0, 400.0]);
+    let (served, join) = serve_platform(&study, &dir.path().join("out"), port).await;
+    let link = |pid: &str| format!("{join}?PROLIFIC_PID={pid}&STUDY_ID=s1&SESSION_ID=x{pid}");
+    let b = Browser::start(1.0).await;
+
+    // Consent, a short session with catch trials, the debriefing, the completion URL.
+    b.client.goto(&link("pA")).await.unwrap();
+    assert_eq!(drive(&b, 1.0, &mut alternate()).await, "consent");
+    let subject_url = b.client.current_url().await.unwrap().to_string();
+    answer_consent(&b, 'y').await;
+    assert_eq!(drive(&b, 1.0, &mut alternate()).await, "done");
+    let (_, _, data) = b.screen().await;
+    assert!(
+        data["text"].as_str().unwrap().contains("measured noise"),
+        "{data}"
+    );
+    leave_for(
+        &b,
+        ' ',
+        &format!("http://127.0.0.1:{port}/complete?cc=C0MPLETE"),
+    )
+    .await;
+    let lines = log_lines(&served.sessions);
+    assert_eq!(lines[0]["participant"]["ids"]["PROLIFIC_PID"], "pA");
+    assert!(lines[0]["participant"]["consent"]["text_sha256"].is_string());
+    assert!(
+        lines.iter().any(|l| l["catch"] == true),
+        "catch trials logged"
+    );
+
+    // A second visit with the same id goes back to the same subject.
+    b.client.goto(&link("pA")).await.unwrap();
+    assert_eq!(drive(&b, 1.0, &mut alternate()).await, "done");
+    assert_eq!(
+        b.client.current_url().await.unwrap().to_string(),
+        subject_url
+    );
+
+    // A declined consent: the screen-out URL, and no log.
+    b.client.goto(&link("pB")).await.unwrap();
+    assert_eq!(drive(&b, 1.0, &mut alternate()).await, "consent");
+    answer_consent(&b, 'n').await;
+    assert_eq!(drive(&b, 1.0, &mut alternate()).await, "screened-out");
+    leave_for(
+        &b,
+        ' ',
+        &format!("http://127.0.0.1:{port}/screened?cc=SCREENED"),
+    )
+    .await;
+    log_lines(&served.sessions); // still exactly one log: pA's
+    served.shutdown().await;
+
+    // A display check that fails (the headless display's refresh is outside 200-400 Hz).
+    let port = free_port();
+    let strict = platform_study(&dir.path().join("b"), port, [200.0, 400.0]);
+    let (served, join) = serve_platform(&strict, &dir.path().join("out-b"), port).await;
+    b.client
+        .goto(&format!("{join}?PROLIFIC_PID=pC"))
+        .await
+        .unwrap();
+    assert_eq!(drive(&b, 1.0, &mut alternate()).await, "consent");
+    answer_consent(&b, 'y').await;
+    assert_eq!(drive(&b, 1.0, &mut alternate()).await, "screened-out");
+    leave_for(
+        &b,
+        ' ',
+        &format!("http://127.0.0.1:{port}/screened?cc=SCREENED"),
+    )
+    .await;
+    let logs = std::fs::read_dir(&served.sessions).unwrap().count();
+    assert_eq!(
+        logs, 0,
+        "a participant screened out at the display check writes no log"
+    );
+    b.close().await;
+    served.shutdown().await;
+}

@@ -6,6 +6,7 @@ pub mod bootstrap;
 pub mod comparisons;
 mod continued_fraction;
 pub mod data;
+pub mod exclusions;
 pub mod figures;
 pub mod jnd;
 pub mod multilevel;

@@ -65,6 +65,10 @@ pub struct AnalyzeOptions {
     pub exclude_dropped: bool,
     /// Name a subject with a larger share of such trials.
     pub max_dropped_share: f64,
+    /// Exclusion criteria given as flags; each set field replaces the design's `exclusion`.
+    pub criteria: experiment::design::online::Exclusion,
+    /// Name the subjects the criteria exclude, but fit them all the same.
+    pub keep_excluded: bool,
 }
 
 /// Which model across subjects `analyze` fits.
@@ -109,6 +113,8 @@ impl AnalyzeOptions {
             max_dropped_frames: None,
             exclude_dropped: false,
             max_dropped_share: 0.2,
+            criteria: Default::default(),
+            keep_excluded: false,
         }
     }
 }
@@ -356,6 +362,11 @@ pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
         check_design(d, &ds)?;
     }
     ds.exclude(&args.exclusions())?;
+    let criteria = crate::exclusions::merged(
+        design.as_ref().and_then(|d| d.file.exclusion.as_ref()),
+        &args.criteria,
+    );
+    let screened = crate::exclusions::screen(&criteria, args.keep_excluded, &mut ds)?;
     if (args.model == ModelKind::Multilevel || args.equivalence.is_some()) && ds.subjects.len() < 2
     {
         bail!(
@@ -373,6 +384,9 @@ pub fn run_report(args: &AnalyzeOptions) -> Result<Report> {
     let settings = args.settings_for(&ds, design.as_ref())?;
     let report = analyze(&ds, &settings);
     crate::output::write(&report, &args.out)?;
+    if let Some(csv) = screened {
+        renderer::atomic::write_atomic(&args.out.join("exclusions.csv"), csv.as_bytes())?;
+    }
     if let Some(d) = &design {
         crate::adaptive::write(d, &ds.files, &report, &args.out)?;
     }

@@ -123,7 +123,8 @@ fn is_simulated(mode: &str) -> bool {
 /// adaptive procedure replayed over the log's answers up to and including the first trial it
 /// did not give (past that its state is unknown, so later trials have nothing to match).
 fn expected_main(d: &Design, log: &SessionLog) -> Vec<Trial> {
-    if d.file.procedure.is_constant() {
+    // Catch trials (`procedure::catch`) are placed by the procedure, so replay it then.
+    if d.file.procedure.is_constant() && d.file.catch_trials.is_none() {
         return plan(d, &log.header.subject).main;
     }
     let mut p = procedure::start(d, &log.header.subject);

@@ -136,6 +136,15 @@ fn validate(f: &DesignFile) -> Result<()> {
         d.validate()?;
     }
     adaptive(f)?;
+    if let Some(c) = &f.catch_trials {
+        c.validate()?;
+    }
+    if let Some(o) = &f.online {
+        o.validate()?;
+    }
+    if let Some(e) = &f.exclusion {
+        e.validate()?;
+    }
     validate_keys(&f.keys)
 }
 

@@ -28,6 +28,7 @@ pub mod presentation;
 pub mod procedure;
 pub mod psychometric;
 pub mod refresh;
+pub mod screening;
 pub mod session;
 pub mod simulate;
 pub mod stream;

@@ -70,6 +70,28 @@ pub struct Header {
     /// The simulated observer's parameters, when simulated.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub observer: Option<serde_json::Value>,
+    /// A web participant's platform ids and consent (the design's `online`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub participant: Option<Participant>,
+}
+
+/// Who a web participant is on their recruitment platform, and when they consented.
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
+pub struct Participant {
+    /// The query parameters the design's `online` names (the id parameter's among them).
+    #[serde(default)]
+    pub ids: std::collections::BTreeMap<String, String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub consent: Option<Consent>,
+}
+
+/// A consent given, before any trial.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Consent {
+    /// Seconds since the Unix epoch.
+    pub unix: f64,
+    /// SHA-256 of the consent text shown.
+    pub text_sha256: String,
 }
 
 /// The display a session ran on.
@@ -155,6 +177,9 @@ pub struct TrialRecord {
     /// The refresh interval the browser measured during this trial, milliseconds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refresh_interval_ms: Option<f64>,
+    /// An attention check (the design's `catch_trials`): never fitted.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub catch: bool,
 }
 
 impl TrialRecord {
@@ -193,9 +218,14 @@ impl SessionLog {
         parse_log(path, &utf8_text(path, bytes)?)
     }
 
-    /// The trials that count for analysis.
+    /// The main trials (catch trials among them), in log order: what the procedure replays.
     pub fn main_trials(&self) -> impl Iterator<Item = &TrialRecord> {
         self.trials.iter().filter(|t| !t.practice)
+    }
+
+    /// The trials that count for analysis: main trials that are not catch trials.
+    pub fn analyzed_trials(&self) -> impl Iterator<Item = &TrialRecord> {
+        self.trials.iter().filter(|t| !t.practice && !t.catch)
     }
 }
 
@@ -349,6 +379,7 @@ mod tests {
             trials_planned: 2,
             display: None,
             observer: None,
+            participant: None,
         }
     }
 
@@ -374,6 +405,7 @@ mod tests {
             preload_ms: 0.0,
             late_frames: None,
             refresh_interval_ms: None,
+            catch: false,
         }
     }
 

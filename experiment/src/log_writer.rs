@@ -164,6 +164,7 @@ pub(crate) mod tests {
             trials_planned: 0,
             display: None,
             observer: None,
+            participant: None,
         }
     }
 

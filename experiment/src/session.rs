@@ -91,6 +91,8 @@ pub struct Session {
     main_done: usize,
     stage: Stage,
     warnings: Vec<String>,
+    /// Goes into a new log's header (`set_participant`).
+    participant: Option<crate::log::Participant>,
 }
 
 /// The text a log names its program with.
@@ -151,6 +153,7 @@ impl Session {
             main_done: 0,
             stage: Stage::Instructions,
             warnings: Vec::new(),
+            participant: None,
         };
         if let Some(bytes) = s.log.existing()? {
             s.read_existing(bytes)?;
@@ -275,12 +278,18 @@ impl Session {
                 trials_planned: self.procedure.planned(),
                 display: info.display,
                 observer: info.observer,
+                participant: self.participant.clone(),
             };
             self.log.create(&header)?;
         }
         self.started = true;
         self.stage = Stage::Instructions;
         Ok(())
+    }
+
+    /// A web participant's ids and consent, for the header [`Session::start`] writes.
+    pub fn set_participant(&mut self, p: crate::log::Participant) {
+        self.participant = Some(p);
     }
 
     pub fn stage(&self) -> Stage {
@@ -470,5 +479,6 @@ fn record(t: &Trial, response: u8, timing: Timing) -> TrialRecord {
         preload_ms: timing.preload_ms,
         late_frames: timing.late_frames,
         refresh_interval_ms: timing.refresh_interval_ms,
+        catch: t.catch,
     }
 }

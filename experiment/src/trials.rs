@@ -32,6 +32,9 @@ pub struct Trial {
     pub diff_pair: u8,
     /// The test video's side within its pair.
     pub test_side: Side,
+    /// An attention check (`catch_trials`): logged, but left out of fits and of the adaptive
+    /// procedures' state.
+    pub catch: bool,
 }
 
 impl Trial {
@@ -59,6 +62,7 @@ impl Trial {
             && r.reference_stimulus == self.reference_stimulus
             && r.diff_pair == self.diff_pair
             && r.test_side == self.test_side
+            && r.catch == self.catch
     }
 }
 
@@ -129,6 +133,7 @@ pub(crate) fn make_trial(
         level,
         diff_pair: combo.0,
         test_side: combo.1,
+        catch: false,
     }
 }
 

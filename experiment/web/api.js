@@ -61,6 +61,16 @@ export class Api {
     return this.request("POST", "/display", { tab: this.tab, ...facts });
   }
 
+  /** The participant's answer to the consent text. */
+  consent(accept) {
+    return this.request("POST", "/consent", { tab: this.tab, accept });
+  }
+
+  /** Leave before any trial: `window_too_small` or `browser_unsupported`. */
+  screenOut(reason) {
+    return this.request("POST", "/screen_out", { tab: this.tab, reason });
+  }
+
   advance(from) {
     return this.request("POST", "/advance", { tab: this.tab, from });
   }

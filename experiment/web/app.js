@@ -18,6 +18,7 @@ import { message, nextKey, setScreen, sleep } from "./ui.js";
 
 const HEARTBEAT_MS = 5000;
 const FEEDBACK_MS = 1000;
+const LEAVE_GUARD_MS = 800;
 const ELSEWHERE = "This session is open in another tab or window. Continue there, or close that " +
   "one and reload this page after 20 seconds.";
 
@@ -82,11 +83,33 @@ async function welcome() {
   await sleep(300);
 }
 
+/** The consent text (the experimenter's, shown as text); Y agrees, N declines. */
+async function consent(api, state) {
+  message("consent", "Consent", state.message || "", "Press Y to agree and take part, N to decline.");
+  const e = await nextKey(["y", "Y", "n", "N"]);
+  return api.consent(e.key.toLowerCase() === "y");
+}
+
+/** The end (done or screened out): the text, then the platform's URL when there is one. */
+async function leave(state, name, title) {
+  if (!state.redirect) {
+    stop(name, title, state.message || "");
+    return state;
+  }
+  message(name, title, state.message || "", "Press Space to return to the study platform.");
+  // A key still pressed for the screen before (the blind spot's Space) must not skip this one.
+  await sleep(LEAVE_GUARD_MS);
+  await nextKey([" "]);
+  stopped = true;
+  location.assign(state.redirect);
+  return state;
+}
+
 /** Calibrate, check that the trial fits, post the display facts; returns the new State. */
 async function displayCheck(api, state) {
   const pxPerMm = await cardMethod();
   const distMm = await blindSpotMethod(canvas, pxPerMm);
-  await waitUntilFits(state);
+  if (!(await waitUntilFits(state, true))) return api.screenOut("window_too_small");
   refreshMs = await measureRefresh();
   const dpr = window.devicePixelRatio || 1;
   const facts = {
@@ -103,13 +126,17 @@ async function displayCheck(api, state) {
   return api.display(facts);
 }
 
-/** Stop with a message while the window is smaller than the trial at 1:1. */
-async function waitUntilFits(state) {
+/** Stop with a message while the window is smaller than the trial at 1:1; with `mayLeave`
+ *  (before the first trial) Q gives up: resolves false. */
+async function waitUntilFits(state, mayLeave = false) {
   for (;;) {
     const text = tooSmall(state);
-    if (text === null) return;
-    message("too-small", "The window is too small", text);
-    await new Promise((r) => window.addEventListener("resize", r, { once: true }));
+    if (text === null) return true;
+    const hint = mayLeave ? "If you cannot enlarge it, press Q to leave the study." : "";
+    message("too-small", "The window is too small", text, hint);
+    const resized = new Promise((r) => window.addEventListener("resize", () => r(true), { once: true }));
+    const quit = mayLeave ? nextKey(["q", "Q"]).then(() => false) : new Promise(() => {});
+    if (!(await Promise.race([resized, quit]))) return false;
   }
 }
 
@@ -257,7 +284,7 @@ async function run() {
   store = new VideoStore(api, state.client, state.video.frames);
   await store.open();
   store.want(state.ahead);
-  if (state.phase !== "done") await welcome();
+  if (!["done", "screened_out"].includes(state.phase)) await welcome();
   while (!stopped) {
     try {
       state = await step(api, state);
@@ -280,6 +307,8 @@ async function step(api, state) {
   // At a screen, fetch what the next trials show (at a trial, once its own videos are here).
   if (state.trial === null) store.want(state.ahead);
   switch (state.phase) {
+    case "consent":
+      return consent(api, state);
     case "display_check":
       return displayCheck(api, state);
     case "instructions":
@@ -291,8 +320,10 @@ async function step(api, state) {
       return breakScreen(api, state);
     case "done":
       await store.clear();
-      stop("done", "Thank you!", state.message || "All trials are done and your answers are saved.");
-      return state;
+      return leave(state, "done", "Thank you!");
+    case "screened_out":
+      await store.clear();
+      return leave(state, "screened-out", "The study ends here");
     default:
       throw new Error(`unknown phase ${state.phase}`);
   }

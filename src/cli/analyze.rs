@@ -131,6 +131,78 @@ pub struct AnalyzeArgs {
           value_parser = renderer::limits::real(0.0, 1.0, false, "a share of trials"),
           allow_hyphen_values = true)]
     pub max_dropped_share: f64,
+    #[command(flatten)]
+    pub screening: ScreeningArgs,
+}
+
+/// The exclusion criteria (docs/analysis.md, "Exclusions"); each replaces the design's
+/// `exclusion` field of the same name.
+#[derive(Args, Clone, Debug, Default)]
+pub struct ScreeningArgs {
+    /// Exclude a subject whose share of catch trials answered correctly is below this.
+    #[arg(long, value_parser = renderer::limits::real(0.0, 1.0, false, "a share of catch trials"),
+          allow_hyphen_values = true)]
+    pub min_catch_accuracy: Option<f64>,
+    /// Exclude a subject whose share of frames dropped or late is above this.
+    #[arg(long, value_parser = renderer::limits::real(0.0, 1.0, false, "a share of frames"),
+          allow_hyphen_values = true)]
+    pub max_bad_frames: Option<f64>,
+    /// A response faster than this (ms after the last video) is too fast to have watched.
+    #[arg(long, value_parser = renderer::limits::real(0.0, 60000.0, false, "milliseconds"),
+          allow_hyphen_values = true)]
+    pub min_rt_ms: Option<f64>,
+    /// Exclude a subject whose share of fast responses is above this (default 0.2).
+    #[arg(long, value_parser = renderer::limits::real(0.0, 1.0, false, "a share of responses"),
+          allow_hyphen_values = true)]
+    pub max_fast_share: Option<f64>,
+    /// Exclude subjects who did not finish every main trial.
+    #[arg(long)]
+    pub require_finished: bool,
+    /// Exclude a subject whose pixels per degree were outside LOW,HIGH.
+    #[arg(long, value_name = "LOW,HIGH", value_parser = parse_range, allow_hyphen_values = true)]
+    pub pixels_per_degree: Option<[f64; 2]>,
+    /// Exclude a subject whose viewing distance (mm) was outside LOW,HIGH.
+    #[arg(long, value_name = "LOW,HIGH", value_parser = parse_range, allow_hyphen_values = true)]
+    pub viewing_distance_mm: Option<[f64; 2]>,
+    /// Exclude a subject whose refresh rate (Hz) was outside LOW,HIGH.
+    #[arg(long, value_name = "LOW,HIGH", value_parser = parse_range, allow_hyphen_values = true)]
+    pub refresh_hz: Option<[f64; 2]>,
+    /// Name the subjects the criteria exclude, but keep them in the fits.
+    #[arg(long)]
+    pub keep_excluded: bool,
+}
+
+/// `LOW,HIGH`: two numbers, 0 <= LOW <= HIGH.
+fn parse_range(s: &str) -> Result<[f64; 2], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let nums: Vec<f64> = parts.iter().filter_map(|p| p.parse().ok()).collect();
+    match nums[..] {
+        [lo, hi]
+            if parts.len() == 2 && lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo <= hi =>
+        {
+            Ok([lo, hi])
+        }
+        _ => Err(format!(
+            "{s:?}: expected LOW,HIGH, two numbers with 0 <= LOW <= HIGH (e.g. 20,80)"
+        )),
+    }
+}
+
+impl ScreeningArgs {
+    fn criteria(&self) -> experiment::design::online::Exclusion {
+        experiment::design::online::Exclusion {
+            min_catch_accuracy: self.min_catch_accuracy,
+            max_bad_frames: self.max_bad_frames,
+            min_rt_ms: self.min_rt_ms,
+            max_fast_share: self.max_fast_share,
+            require_finished: self.require_finished,
+            display: experiment::design::online::DisplayRanges {
+                pixels_per_degree: self.pixels_per_degree,
+                viewing_distance_mm: self.viewing_distance_mm,
+                refresh_hz: self.refresh_hz,
+            },
+        }
+    }
 }
 
 impl AnalyzeArgs {
@@ -160,6 +232,8 @@ impl AnalyzeArgs {
             max_dropped_frames: self.max_dropped_frames,
             exclude_dropped: self.exclude_dropped,
             max_dropped_share: self.max_dropped_share,
+            criteria: self.screening.criteria(),
+            keep_excluded: self.screening.keep_excluded,
         }
     }
 }
@@ -248,6 +322,38 @@ mod tests {
             ])
             .is_err()
         );
+    }
+
+    #[test]
+    fn exclusion_flags_map_and_bad_ones_are_named() {
+        let cli = crate::cli::try_parse::<AnalyzeArgs>(&[
+            "analyze",
+            "--out",
+            "o",
+            "--min-catch-accuracy",
+            "0.75",
+            "--pixels-per-degree",
+            "20,80",
+            "--keep-excluded",
+            "x",
+        ])
+        .unwrap()
+        .options();
+        assert_eq!(cli.criteria.min_catch_accuracy, Some(0.75));
+        assert_eq!(cli.criteria.display.pixels_per_degree, Some([20.0, 80.0]));
+        assert!(cli.keep_excluded);
+        for (flag, value) in [
+            ("--min-catch-accuracy", "1.5"),
+            ("--pixels-per-degree", "80,20"),
+            ("--refresh-hz", "60"),
+            ("--max-fast-share", "-0.1"),
+        ] {
+            let e =
+                crate::cli::try_parse::<AnalyzeArgs>(&["analyze", "--out", "o", flag, value, "x"])
+                    .unwrap_err()
+                    .to_string();
+            assert!(e.contains(flag), "{flag}: {e}");
+        }
     }
 
     #[test]

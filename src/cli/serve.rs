@@ -97,6 +97,9 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<()> {
         if let Some(join) = &s.join_url {
             println!("open enrolment: {join}");
         }
+        if let Some(study) = &s.study_url {
+            println!("study URL for the recruitment platform: {study}");
+        }
         println!("sessions:      {}", s.sessions_dir.display());
         println!("admin:         {}", s.admin_url);
         println!("stop with Ctrl-C; a restart continues every session");

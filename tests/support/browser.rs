@@ -40,6 +40,8 @@ pub fn browser_available() -> bool {
 /// `blurlab serve` in this process: the subject links and a sender that stops it.
 pub struct Served {
     pub links: Vec<String>,
+    /// The open-enrolment link, when the config asks for one.
+    pub join_url: Option<String>,
     stop: Option<tokio::sync::oneshot::Sender<()>>,
     task: tokio::task::JoinHandle<anyhow::Result<()>>,
     pub sessions: PathBuf,
@@ -55,15 +57,22 @@ pub async fn serve_with(
     subjects: u32,
     client: ClientSettings,
 ) -> Served {
-    let config = config(design, out, subjects, client);
+    serve_config(config(design, out, subjects, client)).await
+}
+
+/// Serve `config`: the links of `links.csv` (if enrolled) and the open-enrolment link.
+pub async fn serve_config(config: Config) -> Served {
     let server = Server::bind(&config).await.expect("the server starts");
-    let csv = std::fs::read_to_string(server.started.links_csv.as_ref().expect("links.csv"))
-        .expect("links.csv reads");
+    let csv = match &server.started.links_csv {
+        Some(path) => std::fs::read_to_string(path).expect("links.csv reads"),
+        None => String::new(),
+    };
     let links: Vec<String> = csv
         .lines()
         .skip(1)
         .map(|l| l.split(',').nth(1).expect("subject,url").trim().to_string())
         .collect();
+    let join_url = server.started.join_url.clone();
     let sessions = server.started.sessions_dir.clone();
     let (tx, rx) = tokio::sync::oneshot::channel::<()>();
     let task = tokio::spawn(server.run(async {
@@ -71,6 +80,7 @@ pub async fn serve_with(
     }));
     Served {
         links,
+        join_url,
         stop: Some(tx),
         task,
         sessions,
@@ -206,10 +216,10 @@ impl Browser {
     pub async fn screen(&self) -> (String, u64, Value) {
         let v = self
             .js(
-                "const d = document.body.dataset; return [d.screen, Number(d.seq), \
+                "const d = document.body ? document.body.dataset : {}; return [d.screen, Number(d.seq), \
                  {cardPx: Number(d.cardPx || 0), dotPx: Number(d.dotPx || 0), trial: d.trial || '', \
-                  title: document.getElementById('title').textContent, \
-                  text: document.getElementById('text').textContent}]",
+                  title: document.getElementById('title')?.textContent || '', \
+                  text: document.getElementById('text')?.textContent || ''}]",
             )
             .await;
         (
@@ -240,9 +250,14 @@ pub async fn drive_for(
     let t0 = Instant::now();
     let mut seen = 0;
     let card_target = (PX_PER_MM_AT_1 * scale * 85.6).round();
+    let mut last = String::new();
     loop {
-        assert!(t0.elapsed() < timeout, "the session took over {timeout:?}");
+        assert!(
+            t0.elapsed() < timeout,
+            "the session took over {timeout:?} (at screen {last:?})"
+        );
         let (screen, seq, data) = b.screen().await;
+        last.clone_from(&screen);
         if seq == seen && screen != "blindspot" {
             tokio::time::sleep(Duration::from_millis(10)).await;
             continue;
@@ -281,7 +296,7 @@ pub async fn drive_for(
                 Some(k) => b.key(k).await,
                 None => return screen,
             },
-            "done" => return screen,
+            "done" | "consent" | "screened-out" => return screen,
             "elsewhere" | "error" | "too-small" | "unsupported" => {
                 panic!(
                     "the page stopped: {screen}: {} {}",

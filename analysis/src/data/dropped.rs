@@ -30,7 +30,7 @@ pub fn over_limit(
     let mut per_subject: BTreeMap<&str, (usize, usize)> = BTreeMap::new();
     for (li, log) in logs.iter().enumerate() {
         for (ti, t) in log.trials.iter().enumerate() {
-            if t.practice || skip.contains(&(li, ti)) {
+            if t.practice || t.catch || skip.contains(&(li, ti)) {
                 continue;
             }
             let counts = per_subject.entry(&log.header.subject).or_default();

@@ -157,7 +157,9 @@ impl Dataset {
         for (li, log) in logs.iter().enumerate() {
             warnings.extend(log.warnings.iter().cloned());
             let kept = log.trials.iter().enumerate();
-            for (_, t) in kept.filter(|(ti, t)| !t.practice && !skip.contains(&(li, *ti))) {
+            for (_, t) in
+                kept.filter(|(ti, t)| !t.practice && !t.catch && !skip.contains(&(li, *ti)))
+            {
                 obs.push(Observation {
                     subject: log.header.subject.clone(),
                     scene: t.scene.clone(),
@@ -201,7 +203,7 @@ fn same_video_levels(
     let mut levels: std::collections::BTreeMap<u32, bool> = Default::default();
     for (li, log) in logs.iter().enumerate() {
         for (ti, t) in log.trials.iter().enumerate() {
-            if !t.practice && !skip.contains(&(li, ti)) {
+            if !t.practice && !t.catch && !skip.contains(&(li, ti)) {
                 let same = levels.entry(t.level).or_insert(true);
                 *same &= t.test_stimulus == t.reference_stimulus;
             }

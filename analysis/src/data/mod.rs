@@ -8,6 +8,7 @@
 mod counts_table;
 pub mod dropped;
 mod logs;
+pub mod screening;
 
 use anyhow::{Result, bail};
 use serde::Serialize;

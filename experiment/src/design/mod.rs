@@ -4,6 +4,7 @@
 //! `docs/experiment.md`). [`Design::load`] (`crate::design_load`) validates everything a session relies on,
 //! naming the file and the field of every problem; `procedure` is the `procedure` field.
 
+pub mod online;
 pub mod procedure;
 
 use crate::keys;
@@ -70,6 +71,15 @@ pub struct DesignFile {
     /// The display, for predicting visibility (`blurlab predict`); default: the thesis's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub display: Option<crate::display::DisplaySpec>,
+    /// Attention checks among the main trials (`procedure::catch`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub catch_trials: Option<online::CatchTrials>,
+    /// A study run online: platform, consent, debriefing, screening (`blurlab serve`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub online: Option<online::Online>,
+    /// Who `analyze` leaves out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exclusion: Option<online::Exclusion>,
 }
 
 /// The crossed factors; a condition is one scene x point set x time filter.
@@ -306,10 +316,15 @@ impl Design {
         let f = &self.file.factors;
         let conditions = (f.scenes.len() * f.point_sets.len() * f.time_filters.len()) as u32;
         let p = &self.file.procedure;
-        if p.is_constant() {
+        let n = if p.is_constant() {
             conditions * self.file.levels.len() as u32 * self.file.repeats
         } else {
             conditions * p.tracks_per_condition() * p.trials_per_track()
+        };
+        // One catch trial per block of `block - 1` procedure trials (`procedure::catch`).
+        match &self.file.catch_trials {
+            Some(c) => n + n.div_ceil(c.block() - 1),
+            None => n,
         }
     }
 

@@ -10,6 +10,7 @@
 //! order: [`replay`] rebuilds it from a log (resume, `analyze`'s validation), so a resumed
 //! session presents the trial an uninterrupted one would have.
 
+pub mod catch;
 pub mod constant;
 pub mod interleave;
 pub mod quest_plus;

@@ -2,7 +2,7 @@
 //! the design is loaded, whether it can run the design at all.
 
 use super::seam::Procedure;
-use super::{constant, quest_plus, staircase};
+use super::{catch, constant, quest_plus, staircase};
 use crate::design::Design;
 use crate::design::procedure::ProcedureSpec;
 use crate::trials;
@@ -11,6 +11,15 @@ use anyhow::Result;
 /// A fresh procedure for `subject` under `design`.
 pub fn start(design: &Design, subject: &str) -> Box<dyn Procedure> {
     let seed = design.subject_seed(subject);
+    let inner = plain(design, seed);
+    match &design.file.catch_trials {
+        Some(c) => Box::new(catch::WithCatch::new(inner, design, seed, c.block())),
+        None => inner,
+    }
+}
+
+/// The procedure the design's `procedure` field names, without catch trials.
+fn plain(design: &Design, seed: u64) -> Box<dyn Procedure> {
     match &design.file.procedure {
         ProcedureSpec::ConstantStimuli => Box::new(constant::ConstantStimuli::new(
             trials::main_trials(design, seed),

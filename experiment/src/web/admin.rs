@@ -16,6 +16,10 @@ pub struct Overview {
     pub enrolled: usize,
     pub started: usize,
     pub finished: usize,
+    /// Participants screened out before any trial (consent declined, display check failed).
+    pub screened_out: usize,
+    /// Subjects the design's exclusion criteria flag so far.
+    pub flagged: usize,
     pub trials_done: usize,
     pub trials_planned: usize,
     /// Seconds until the slowest active subject is expected to finish, at the pace each has
@@ -79,6 +83,8 @@ fn overview(app: &App) -> Overview {
         enrolled: subjects.len(),
         started: subjects.iter().filter(|s| s.started).count(),
         finished: subjects.iter().filter(|s| s.finished).count(),
+        screened_out: subjects.iter().filter(|s| s.screened_out.is_some()).count(),
+        flagged: subjects.iter().filter(|s| !s.flags.is_empty()).count(),
         trials_done: subjects.iter().map(|s| s.done).sum(),
         trials_planned: subjects.iter().map(|s| s.planned).sum(),
         expected_finish_s,
@@ -125,12 +131,17 @@ fn html(o: &Overview) -> String {
     let mut rows = String::new();
     for s in &o.subjects {
         rows.push_str(&format!(
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}/{}</td></tr>\n",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}/{}</td><td>{}</td></tr>\n",
             esc(&s.subject),
+            esc(s.participant.as_deref().unwrap_or("")),
             if s.started { "yes" } else { "no" },
             if s.finished { "yes" } else { "no" },
             s.done,
-            s.planned
+            s.planned,
+            esc(&match &s.screened_out {
+                Some(why) => format!("screened out: {why}"),
+                None => s.flags.join("; "),
+            })
         ));
     }
     let eta = o
@@ -141,14 +152,18 @@ fn html(o: &Overview) -> String {
     format!(
         "<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\">\
          <meta http-equiv=\"refresh\" content=\"10\"><title>blurlab: {design}</title></head>\
-         <body><h1>{design}</h1><p>{enrolled} enrolled, {started} started, {finished} finished; \
-         {done} of {planned} trials; expected finish {eta}.</p>\
-         <table><tr><th>subject</th><th>started</th><th>finished</th><th>trials</th></tr>\n\
+         <body><h1>{design}</h1><p>{enrolled} enrolled, {started} started, {finished} finished, \
+         {screened} screened out, {flagged} flagged for exclusion; {done} of {planned} trials; \
+         expected finish {eta}.</p>\
+         <table><tr><th>subject</th><th>participant</th><th>started</th><th>finished</th>\
+         <th>trials</th><th>flags</th></tr>\n\
          {rows}</table></body></html>",
         design = esc(&o.design),
         enrolled = o.enrolled,
         started = o.started,
         finished = o.finished,
+        screened = o.screened_out,
+        flagged = o.flagged,
         done = o.trials_done,
         planned = o.trials_planned,
     )

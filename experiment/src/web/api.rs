@@ -4,8 +4,8 @@
 
 use super::error::{ApiError, UNKNOWN_LINK};
 use super::subject::Subject;
-use super::wire::{Advance, Claim, DisplayFacts};
-use super::{App, BODY_LIMIT, Entry, admin, assets, guard, tokens};
+use super::wire::{Advance, Claim, ConsentAnswer, DisplayFacts, ScreenOut};
+use super::{App, BODY_LIMIT, Entry, admin, assets, guard, participant, tokens};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{ConnectInfo, DefaultBodyLimit, Path, Query, State};
@@ -15,6 +15,7 @@ use axum::routing::{get, post};
 use axum::{Json, Router};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
+use std::collections::HashMap;
 use std::net::SocketAddr;
 use std::sync::Arc;
 
@@ -30,6 +31,8 @@ pub(crate) fn router(app: Arc<App>, csp: axum::http::HeaderValue) -> Router {
         .route("/api/s/{token}/state", get(state))
         .route("/api/s/{token}/display", post(display))
         .route("/api/s/{token}/advance", post(advance))
+        .route("/api/s/{token}/consent", post(consent))
+        .route("/api/s/{token}/screen_out", post(screen_out))
         .route("/api/s/{token}/answer", post(answer))
         .route("/api/s/{token}/video/{id}", get(video))
         .route("/admin", get(admin::page))
@@ -134,45 +137,23 @@ async fn asset(Path(name): Path<String>) -> Result<Response, ApiError> {
     Ok(([(header::CONTENT_TYPE, a.mime)], a.body).into_response())
 }
 
-/// Open enrolment: a new subject and a redirect to their link.
+/// Open enrolment: a new subject (or, for a platform participant seen before, theirs) and a
+/// redirect to their link.
 async fn join(
     State(app): Shared,
     ConnectInfo(peer): Peer,
     Path(token): Path<String>,
+    q: Result<Query<HashMap<String, String>>, axum::extract::rejection::QueryRejection>,
 ) -> Result<Response, ApiError> {
     let ip = peer.ip().to_string();
     if !app.per_address.has(&ip) {
         return Err(too_many());
     }
+    let Query(query) = q.map_err(|e| ApiError::bad_request(format!("the link's query: {e}")))?;
     let app2 = app.clone();
-    let made = tokio::task::spawn_blocking(move || -> Result<String, ApiError> {
-        let mut t = app2.tokens.lock().unwrap_or_else(|e| e.into_inner());
-        let Some(open) = t.open.clone() else {
-            return Err(ApiError::not_found(UNKNOWN_LINK));
-        };
-        if !tokens::same_secret(&open.token, &token) {
-            return Err(ApiError::not_found(UNKNOWN_LINK));
-        }
-        let have = t.count_with_prefix("o");
-        if have >= open.cap {
-            return Err(ApiError::new(
-                StatusCode::GONE,
-                "this study is full; thank you for your interest",
-            ));
-        }
-        let s = t
-            .add(format!("o{:03}", have + 1))
-            .map_err(|e| ApiError::internal(&e))?;
-        // The subject exists once tokens.json says so: a restart keeps their link.
-        if let Err(e) = t.save(&app2.out) {
-            t.subjects.pop();
-            return Err(ApiError::internal(&e));
-        }
-        app2.insert(&s.subject, &s.token);
-        Ok(s.token)
-    })
-    .await
-    .map_err(|e| ApiError::internal(&anyhow::anyhow!("{e}")))?;
+    let made = tokio::task::spawn_blocking(move || participant::join(&app2, &token, &query))
+        .await
+        .map_err(|e| ApiError::internal(&anyhow::anyhow!("{e}")))?;
     match made {
         Ok(t) => Ok(Redirect::to(&format!("/s/{t}")).into_response()),
         Err(e) => {
@@ -182,6 +163,38 @@ async fn join(
             Err(e)
         }
     }
+}
+
+async fn consent(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let entry = lookup(&app, &token, peer)?;
+    let c: ConsentAnswer = parse(body)?;
+    with_subject(app, entry, move |app, s| {
+        let state = s.consent(&app.study, &c.tab, c.accept)?;
+        participant::persist(app, s)?;
+        Ok(state)
+    })
+    .await
+}
+
+async fn screen_out(
+    State(app): Shared,
+    ConnectInfo(peer): Peer,
+    Path(token): Path<String>,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    let entry = lookup(&app, &token, peer)?;
+    let r: ScreenOut = parse(body)?;
+    with_subject(app, entry, move |app, s| {
+        let state = s.screen_out(&app.study, &r.tab, &r.reason)?;
+        participant::persist(app, s)?;
+        Ok(state)
+    })
+    .await
 }
 
 async fn claim(
@@ -222,7 +235,12 @@ async fn display(
 ) -> Result<Response, ApiError> {
     let entry = lookup(&app, &token, peer)?;
     let d: DisplayFacts = parse(body)?;
-    with_subject(app, entry, move |app, s| s.display(&app.study, &d)).await
+    with_subject(app, entry, move |app, s| {
+        let state = s.display(&app.study, &d)?;
+        participant::persist(app, s)?;
+        Ok(state)
+    })
+    .await
 }
 
 async fn advance(

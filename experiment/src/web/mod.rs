@@ -12,6 +12,8 @@ pub mod error;
 pub mod export;
 pub mod guard;
 pub mod packs;
+pub mod participant;
+mod redirect;
 mod stream;
 pub mod study;
 pub mod subject;
@@ -62,6 +64,9 @@ pub struct Started {
     pub admin_token: String,
     pub links_csv: Option<PathBuf>,
     pub join_url: Option<String>,
+    /// The join URL with the platform's id parameters (the design's `online`), to paste into
+    /// the platform's study settings.
+    pub study_url: Option<String>,
     pub subjects: usize,
     pub sessions_dir: PathBuf,
     /// Videos encoded at this start, and reused from the cache.
@@ -92,10 +97,16 @@ pub(crate) struct App {
 }
 
 impl App {
-    fn insert(&self, name: &str, token: &str) {
+    fn insert(&self, t: &tokens::SubjectToken) {
+        let token = &t.token;
         let shared = self.study.client.video_base.is_some();
         let videos = Arc::new(VideoIds::new(&self.study, &self.video_key, token, shared));
-        let s = Subject::new(name, &self.sessions_dir, videos.clone());
+        let mut s = Subject::new(&t.subject, &self.sessions_dir, videos.clone());
+        s.participant = crate::log::Participant {
+            ids: t.ids.clone(),
+            consent: t.consent.clone(),
+        };
+        s.screened_out = t.screened_out.clone();
         let entry = Entry {
             videos,
             subject: Mutex::new(s),
@@ -177,6 +188,12 @@ impl Server {
                 .open
                 .as_ref()
                 .map(|o| format!("{base_url}/join/{}", o.token)),
+            study_url: match (&study.design.file.online, &tokens.open) {
+                (Some(o), Some(open)) => {
+                    Some(format!("{base_url}/join/{}{}", open.token, o.study_query()))
+                }
+                _ => None,
+            },
             subjects: tokens.subjects.len(),
             sessions_dir: sessions_dir.clone(),
             base_url,
@@ -194,7 +211,7 @@ impl Server {
             video_key,
         };
         for s in &tokens.subjects {
-            app.insert(&s.subject, &s.token);
+            app.insert(s);
         }
         Ok(Self {
             listener,

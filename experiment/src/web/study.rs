@@ -4,6 +4,7 @@
 
 use super::packs::{Cache, Encoded, Pack};
 use super::wire::{ClientSettings, Keys, PlaybackInfo, Video};
+use crate::design::online::{Text, read_text};
 use crate::design::{Design, Layout};
 use crate::frames::VideoSource;
 use anyhow::{Result, bail};
@@ -29,6 +30,9 @@ pub struct Study {
     pub client: ClientSettings,
     /// What loading encoded (a first start encodes every video; later ones reuse them).
     pub encoded: Encoded,
+    /// The design's `online.consent` and `online.debriefing` texts.
+    pub consent: Option<Text>,
+    pub debriefing: Option<Text>,
 }
 
 impl Study {
@@ -40,6 +44,14 @@ impl Study {
         client: ClientSettings,
         progress: &mut dyn FnMut(usize, usize, &str),
     ) -> Result<Self> {
+        let text = |field: &str, file: &Option<String>| {
+            file.as_ref()
+                .map(|f| read_text(&design.path, field, f))
+                .transpose()
+        };
+        let online = design.file.online.clone().unwrap_or_default();
+        let consent = text("consent", &online.consent)?;
+        let debriefing = text("debriefing", &online.debriefing)?;
         let sources = sources(&design)?;
         let Some(first) = sources.first() else {
             bail!("{}: the design shows no stimuli", design.path.display());
@@ -91,6 +103,8 @@ impl Study {
             videos,
             client,
             encoded,
+            consent,
+            debriefing,
             design,
         })
     }

@@ -67,12 +67,21 @@ pub struct SubjectProgress {
     pub run_answers: u32,
     #[serde(skip)]
     pub run_seconds: f64,
+    /// A platform participant's id (the design's `online`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub participant: Option<String>,
+    /// Why the participant was screened out before any trial.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub screened_out: Option<String>,
+    /// The design's exclusion criteria this subject fails so far (`crate::screening`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub flags: Vec<String>,
 }
 
 #[derive(Debug)]
 pub struct Subject {
     pub name: String,
-    log_path: PathBuf,
+    pub(super) log_path: PathBuf,
     session: Option<Session>,
     /// `start` was called in this run (header or resume line written).
     started: bool,
@@ -82,6 +91,10 @@ pub struct Subject {
     pub videos: Arc<VideoIds>,
     first_answer: Option<Instant>,
     run_answers: u32,
+    /// A platform participant's ids and consent (`participant.rs`), for the header.
+    pub(crate) participant: crate::log::Participant,
+    /// Why the participant was screened out before any trial.
+    pub(crate) screened_out: Option<String>,
 }
 
 impl Subject {
@@ -96,7 +109,28 @@ impl Subject {
             videos,
             first_answer: None,
             run_answers: 0,
+            participant: crate::log::Participant::default(),
+            screened_out: None,
         }
+    }
+
+    /// Open the session (reading its log) if not yet open.
+    pub(super) fn open(&mut self, study: &Study) -> Result<(), ApiError> {
+        self.session(study).map(|_| ())
+    }
+
+    /// The tab holds the claim (renewed).
+    pub(super) fn check_claim(&mut self, tab: &str) -> Result<(), ApiError> {
+        self.check_tab(tab, false)
+    }
+
+    /// The session has a log: begun in this run or an earlier one.
+    pub(super) fn has_started(&self) -> bool {
+        self.started || self.session.as_ref().is_some_and(|s| s.resumed())
+    }
+
+    pub(super) fn current_state(&mut self, study: &Study) -> State {
+        self.state(study)
     }
 
     /// Open the session (reading its log, if any) the first time it is needed.
@@ -164,6 +198,14 @@ impl Subject {
             planned,
             run_answers: self.run_answers,
             run_seconds: self.first_answer.map_or(0.0, |t| t.elapsed().as_secs_f64()),
+            participant: study
+                .design
+                .file
+                .online
+                .as_ref()
+                .and_then(|o| self.participant.ids.get(&o.id_param()).cloned()),
+            screened_out: self.screened_out.clone(),
+            flags: self.flags(study, started),
         }
     }
 
@@ -208,7 +250,27 @@ impl Subject {
     pub fn display(&mut self, study: &Study, facts: &DisplayFacts) -> Result<State, ApiError> {
         self.session(study)?;
         self.check_tab(&facts.tab, false)?;
+        if self.screened_out.is_some() {
+            return Ok(self.state(study));
+        }
+        if study.consent.is_some() && self.participant.consent.is_none() && !self.has_started() {
+            return Err(ApiError::conflict(
+                "consent comes before the display check; reload the page",
+            ));
+        }
         check_display(facts, study.min_window_px)?;
+        if !self.has_started()
+            && let Some(why) = study.design.file.online.as_ref().and_then(|o| {
+                o.screening.violation(
+                    facts.pixels_per_degree,
+                    facts.viewing_distance_mm,
+                    facts.refresh_interval_ms,
+                )
+            })
+        {
+            self.screened_out = Some(format!("display check: {why}"));
+            return Ok(self.state(study));
+        }
         if !self.started {
             let display = Display {
                 width: facts.screen_px[0],
@@ -228,7 +290,11 @@ impl Subject {
             let started_unix = std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0.0, |d| d.as_secs_f64());
+            let participant = self.participant.clone();
             let session = self.session(study)?;
+            if participant != crate::log::Participant::default() {
+                session.set_participant(participant);
+            }
             session
                 .start(StartInfo {
                     mode: "web".into(),
@@ -273,6 +339,11 @@ impl Subject {
             practice: a.practice,
             trial: a.trial,
         };
+        if self.screened_out.is_some() {
+            return Err(ApiError::conflict(
+                "this participant was screened out; no trials follow",
+            ));
+        }
         if a.session != 1 {
             return Err(ApiError::conflict(format!(
                 "field `session` is {}; this link has session 1 only",
@@ -341,7 +412,22 @@ impl Subject {
         let (pd, pp) = session.practice_progress();
         let (done, planned) = session.progress();
         let stage = session.stage();
-        let (phase, message) = if !self.started {
+        let (phase, message) = if self.screened_out.is_some() {
+            (
+                "screened_out",
+                Some(
+                    "Thank you for your interest. This study cannot continue on this computer \
+                     or setup, so it ends here; no answers were recorded."
+                        .to_string(),
+                ),
+            )
+        } else if !self.started
+            && !session.resumed()
+            && self.participant.consent.is_none()
+            && let Some(text) = &study.consent
+        {
+            ("consent", Some(text.text.clone()))
+        } else if !self.started {
             ("display_check", None)
         } else {
             match stage {
@@ -360,7 +446,10 @@ impl Subject {
                 ),
                 Stage::Finished => (
                     "done",
-                    Some("The session is complete. Thank you!".to_string()),
+                    Some(study.debriefing.as_ref().map_or_else(
+                        || "The session is complete. Thank you!".to_string(),
+                        |t| t.text.clone(),
+                    )),
                 ),
             }
         };
@@ -375,7 +464,9 @@ impl Subject {
             pairs: [1u8, 2].map(|p| [Side::Left, Side::Right].map(|s| self.id(t.video(p, s)))),
         });
         let ahead = self.ahead(study, session);
+        let redirect = super::redirect::redirect(study, &self.participant, &self.name, phase);
         State {
+            redirect,
             phase: phase.into(),
             session: 1,
             video: study.video.clone(),

@@ -29,10 +29,19 @@ pub fn same_secret(a: &str, b: &str) -> bool {
     a.len() == b.len() && a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
 }
 
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct SubjectToken {
     pub subject: String,
     pub token: String,
+    /// A platform participant's query parameters (`participant.rs`), the id's among them.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub ids: std::collections::BTreeMap<String, String>,
+    /// The consent given (kept here until the log's header exists).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub consent: Option<crate::log::Consent>,
+    /// Why the participant was screened out before any trial (consent declined, display).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub screened_out: Option<String>,
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -125,6 +134,7 @@ impl Tokens {
         let s = SubjectToken {
             subject,
             token: new_token()?,
+            ..SubjectToken::default()
         };
         self.subjects.push(s.clone());
         Ok(s)

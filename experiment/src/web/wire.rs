@@ -7,7 +7,8 @@ use serde::{Deserialize, Serialize};
 /// What the browser shows now.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct State {
-    /// `display_check`, `instructions`, `practice`, `main`, `break` or `done`.
+    /// `consent`, `display_check`, `instructions`, `practice`, `main`, `break`, `done` or
+    /// `screened_out`.
     pub phase: String,
     pub session: u32,
     pub video: Video,
@@ -22,6 +23,10 @@ pub struct State {
     pub ahead: Vec<String>,
     pub client: ClientSettings,
     pub message: Option<String>,
+    /// Where the browser goes after this screen: the platform's completion URL (`done`) or
+    /// screen-out URL (`screened_out`), when the design's `online` names them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub redirect: Option<String>,
 }
 
 /// How the browser fetches, keeps and decodes videos (`blurlab serve` options).
@@ -107,6 +112,23 @@ pub struct Advance {
     pub tab: String,
     /// `instructions` or `break`.
     pub from: String,
+}
+
+/// `POST .../consent`: the participant's answer to the consent text.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConsentAnswer {
+    pub tab: String,
+    pub accept: bool,
+}
+
+/// `POST .../screen_out`: the page found a reason the participant cannot take part.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScreenOut {
+    pub tab: String,
+    /// `window_too_small` or `browser_unsupported`.
+    pub reason: String,
 }
 
 /// `POST .../display`: what the browser measured before the first trial.
