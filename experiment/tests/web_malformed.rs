@@ -26,7 +26,10 @@ async fn send(http: &reqwest::Client, base: &str, c: &Case) -> (u16, Value) {
     let url = format!("{base}{}", c.path);
     let req = match c.method {
         "GET" => http.get(&url),
-        _ => http.post(&url).body(c.body.clone().unwrap_or_default()),
+        "POST" => http.post(&url).body(c.body.clone().unwrap_or_default()),
+        m => http
+            .request(m.parse().unwrap(), &url)
+            .body(c.body.clone().unwrap_or_default()),
     };
     let r = req.send().await.unwrap();
     let status = r.status().as_u16();
@@ -318,6 +321,62 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             message: "admin token",
         },
         Case {
+            what: "a method the route does not take",
+            method: "PUT",
+            path: p("answer"),
+            body: Some("{}".into()),
+            status: 405,
+            message: "method",
+        },
+        Case {
+            what: "a body nested past any answer",
+            method: "POST",
+            path: p("answer"),
+            body: Some(format!(
+                "{{\"tab\": {}{}}}",
+                "[".repeat(50_000),
+                "]".repeat(50_000)
+            )),
+            status: 400,
+            message: "field `tab`",
+        },
+        Case {
+            what: "an answer with a field the API does not have",
+            method: "POST",
+            path: p("answer"),
+            body: Some(
+                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
+                       "rt_ms": 500.0, "level": 8})
+                .to_string(),
+            ),
+            status: 400,
+            message: "unknown field `level`",
+        },
+        Case {
+            what: "frame times going back",
+            method: "POST",
+            path: p("answer"),
+            body: Some(
+                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
+                       "rt_ms": 500.0, "frame_times_ms": [20.0, 10.0]})
+                .to_string(),
+            ),
+            status: 400,
+            message: "`frame_times_ms`",
+        },
+        Case {
+            what: "more dropped frames than the trial shows",
+            method: "POST",
+            path: p("answer"),
+            body: Some(
+                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
+                       "rt_ms": 500.0, "dropped_frames": 1_000_000})
+                .to_string(),
+            ),
+            status: 400,
+            message: "`dropped_frames`",
+        },
+        Case {
             what: "admin with a wrong token",
             method: "GET",
             path: format!("/admin?token={}", "f".repeat(32)),
@@ -397,19 +456,26 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
     assert_eq!(r.headers()["x-content-type-options"], "nosniff");
     assert_eq!(r.headers()["referrer-policy"], "no-referrer");
 
-    // The admin token opens the progress.
-    let r = http
-        .get(format!("{base}/admin/progress.json"))
-        .bearer_auth(&server.started.admin_token)
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(r.status(), 200);
-    let v: Value = serde_json::from_slice(&r.bytes().await.unwrap()).unwrap();
-    assert_eq!(
-        (v["enrolled"].as_u64(), v["started"].as_u64()),
-        (Some(2), Some(1))
-    );
+    // The admin token opens the progress: a Bearer header in any case of the scheme, or the
+    // query the page takes.
+    let admin = &server.started.admin_token;
+    let progress = format!("{base}/admin/progress.json");
+    for req in [
+        http.get(&progress).bearer_auth(admin),
+        http.get(&progress)
+            .header("authorization", format!("bearer {admin}")),
+        http.get(&progress)
+            .header("authorization", format!("BEARER  {admin}")),
+        http.get(format!("{progress}?token={admin}")),
+    ] {
+        let r = req.send().await.unwrap();
+        assert_eq!(r.status(), 200);
+        let v: Value = serde_json::from_slice(&r.bytes().await.unwrap()).unwrap();
+        assert_eq!(
+            (v["enrolled"].as_u64(), v["started"].as_u64()),
+            (Some(2), Some(1))
+        );
+    }
 
     // The JSON the browser saw names no level, point set, scene or stimulus.
     let r = http.get(api("state?tab=A")).send().await.unwrap();

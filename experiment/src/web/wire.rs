@@ -111,6 +111,7 @@ pub struct Advance {
 
 /// `POST .../display`: what the browser measured before the first trial.
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DisplayFacts {
     pub tab: String,
     pub screen_px: [u32; 2],
@@ -126,6 +127,7 @@ pub struct DisplayFacts {
 
 /// `POST .../answer`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Answer {
     pub tab: String,
     pub session: u32,
