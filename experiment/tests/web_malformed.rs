@@ -511,3 +511,77 @@ async fn guessing_links_is_rate_limited_per_address() {
     assert_eq!(*statuses.last().unwrap(), 429, "{statuses:?}");
     server.stop().await;
 }
+
+/// Issue 51 item 6: a connection that sends no request head, or half of one, or stays idle
+/// after a request, is closed after the header timeout; past the connection cap a new one is
+/// closed at once; and the server still answers afterwards.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn slow_idle_and_surplus_connections_are_closed() {
+    use std::io::{Read, Write};
+    use std::net::TcpStream;
+    use std::time::{Duration, Instant};
+    let dir = tempfile::tempdir().unwrap();
+    let study = write_study(dir.path(), &StudySpec::tiny()).unwrap();
+    let design = Design::load(&study.design_path).unwrap();
+    let mut cfg = config(&design.path, &dir.path().join("study"), 1);
+    cfg.connections = experiment::web::connections::Limits {
+        header_read_timeout: Duration::from_millis(700),
+        max_connections: 4,
+    };
+    let server = Running::start(&cfg).await;
+    let addr = server.started.addr;
+    let held = tokio::task::spawn_blocking(move || {
+        // Reads until the server closes; the time it took.
+        let closed_after = |mut s: TcpStream| {
+            let t = Instant::now();
+            s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+            let mut buf = vec![0u8; 4096];
+            loop {
+                match s.read(&mut buf) {
+                    Ok(0) => return t.elapsed(),
+                    Ok(_) => continue,
+                    Err(e)
+                        if e.kind() == std::io::ErrorKind::WouldBlock
+                            || e.kind() == std::io::ErrorKind::TimedOut =>
+                    {
+                        panic!("held open for 10 s")
+                    }
+                    Err(_) => return t.elapsed(),
+                }
+            }
+        };
+        let silent = TcpStream::connect(addr).unwrap();
+        let mut half = TcpStream::connect(addr).unwrap();
+        half.write_all(b"GET /admin HTTP/1.1\r\nHost: x\r\n")
+            .unwrap();
+        let mut idle = TcpStream::connect(addr).unwrap();
+        idle.write_all(b"GET /nothing HTTP/1.1\r\nHost: x\r\n\r\n")
+            .unwrap();
+        let fourth = TcpStream::connect(addr).unwrap();
+        std::thread::sleep(Duration::from_millis(100));
+        // Four held: the fifth is over the cap.
+        let surplus = closed_after(TcpStream::connect(addr).unwrap());
+        let mut out = vec![("surplus", surplus)];
+        for (what, s) in [
+            ("silent", silent),
+            ("half a head", half),
+            ("idle", idle),
+            ("fourth", fourth),
+        ] {
+            out.push((what, closed_after(s)));
+        }
+        out
+    })
+    .await
+    .unwrap();
+    assert!(held[0].1 < Duration::from_millis(500), "{held:?}");
+    for (what, t) in &held[1..] {
+        assert!(*t < Duration::from_secs(3), "{what}: held {t:?}");
+    }
+    // Every permit is back: a request is answered.
+    let r = reqwest::get(format!("http://{addr}/nothing"))
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 404);
+    server.stop().await;
+}

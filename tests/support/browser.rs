@@ -97,6 +97,7 @@ pub fn config(design: &Path, out: &Path, subjects: u32, client: ClientSettings) 
         base_url: None,
         client,
         limits: Default::default(),
+        connections: Default::default(),
     }
 }
 

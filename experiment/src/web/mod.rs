@@ -8,6 +8,7 @@ mod admin;
 mod api;
 pub mod assets;
 pub mod budget;
+pub mod connections;
 pub mod error;
 pub mod export;
 pub mod guard;
@@ -51,6 +52,8 @@ pub struct Config {
     pub client: ClientSettings,
     /// The budget a session is checked against (warnings).
     pub limits: budget::Limits,
+    /// How long and how many connections may be held.
+    pub connections: connections::Limits,
 }
 
 /// What a started server tells its operator.
@@ -110,6 +113,7 @@ impl App {
 /// A server bound to its address, ready to run.
 pub struct Server {
     listener: tokio::net::TcpListener,
+    connections: connections::Limits,
     app: Arc<App>,
     pub started: Started,
 }
@@ -198,6 +202,7 @@ impl Server {
         }
         Ok(Self {
             listener,
+            connections: config.connections,
             app: Arc::new(app),
             started,
         })
@@ -207,13 +212,9 @@ impl Server {
     pub async fn run(self, shutdown: impl Future<Output = ()> + Send + 'static) -> Result<()> {
         let csp = guard::csp(self.app.study.client.video_base.as_deref());
         let router = api::router(self.app, csp);
-        axum::serve(
-            self.listener,
-            router.into_make_service_with_connect_info::<SocketAddr>(),
-        )
-        .with_graceful_shutdown(shutdown)
-        .await
-        .context("the HTTP server stopped")
+        connections::serve(self.listener, router, self.connections, shutdown)
+            .await
+            .context("the HTTP server stopped")
     }
 }
 

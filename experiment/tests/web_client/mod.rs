@@ -62,6 +62,7 @@ pub fn config(
         base_url: None,
         client: Default::default(),
         limits: Default::default(),
+        connections: Default::default(),
     }
 }
 
