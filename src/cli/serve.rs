@@ -35,6 +35,10 @@ pub struct ServeArgs {
     #[arg(long, value_name = "SECONDS", default_value_t = 30.0,
           value_parser = renderer::limits::real(0.1, 3600.0, false, "seconds"))]
     pub header_timeout: f64,
+    /// Do not read every frame at start to compare the manifest's content hash (the other
+    /// checks stay: every stimulus there, with its size and frame count).
+    #[arg(long)]
+    pub skip_hash_check: bool,
     /// Most connections open at once; more are closed as they arrive.
     #[arg(long, value_name = "N", default_value_t = 1024,
           value_parser = clap::value_parser!(u32).range(8..=65_536))]
@@ -151,6 +155,7 @@ fn config(args: &ServeArgs) -> anyhow::Result<experiment::web::Config> {
             session_bytes: (args.budget_gb * 1e9) as u64,
             memory_bytes: (args.memory_budget_gb * 1e9) as u64,
         },
+        check_hashes: !args.skip_hash_check,
         connections: experiment::web::connections::Limits {
             header_read_timeout: std::time::Duration::from_secs_f64(args.header_timeout),
             max_connections: args.max_connections as usize,

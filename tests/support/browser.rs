@@ -98,6 +98,7 @@ pub fn config(design: &Path, out: &Path, subjects: u32, client: ClientSettings) 
         client,
         limits: Default::default(),
         connections: Default::default(),
+        check_hashes: true,
     }
 }
 

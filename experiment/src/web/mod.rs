@@ -13,6 +13,7 @@ pub mod error;
 pub mod export;
 pub mod guard;
 pub mod packs;
+mod startup;
 mod stream;
 pub mod study;
 pub mod subject;
@@ -54,6 +55,9 @@ pub struct Config {
     pub limits: budget::Limits,
     /// How long and how many connections may be held.
     pub connections: connections::Limits,
+    /// Read every frame at start and compare the manifest's content hash (`--skip-hash-check`
+    /// turns it off, as for `blurlab run`).
+    pub check_hashes: bool,
 }
 
 /// What a started server tells its operator.
@@ -157,6 +161,11 @@ impl Server {
             },
             None => tokens.open = None,
         }
+        startup::check_logs(
+            &sessions_dir,
+            tokens.subjects.iter().map(|s| s.subject.as_str()),
+            &study.design,
+        )?;
         tokens.save(&config.out)?;
         let listener = tokio::net::TcpListener::bind(config.addr)
             .await
@@ -168,9 +177,10 @@ impl Server {
             .unwrap_or_else(|| format!("http://{addr}"))
             .trim_end_matches('/')
             .to_string();
-        let links_csv = match config.enrol {
-            Some(_) => Some(tokens.write_links(&config.out, &base_url)?),
-            None => None,
+        // Rewritten whenever it exists, so it never lists links the tokens no longer open.
+        let links_csv = match config.enrol.is_some() || config.out.join("links.csv").exists() {
+            true => Some(tokens.write_links(&config.out, &base_url)?),
+            false => None,
         };
         let started = Started {
             addr,
@@ -228,6 +238,20 @@ pub fn measure_study(
         "--lookahead-frames is 0; expected at least 1"
     );
     let design = Design::load(&config.design)?;
+    // Every stimulus the design shows exists, decodes to the manifest's size and frame count,
+    // and (by default) hashes as rendered, before anyone is told the server is up: a fault
+    // found in front of a subject is one no retry fixes.
+    let checks = crate::preflight::PreflightOptions {
+        check_hashes: config.check_hashes,
+    };
+    crate::preflight::preflight(&design, checks, &renderer::progress::NoProgress)
+        .into_result()
+        .with_context(|| {
+            format!(
+                "{}: the design's stimuli are not ready to serve",
+                config.design.display()
+            )
+        })?;
     let study = Study::load(design, config.client.clone(), progress)?;
     let budget = budget::Budget::of(&study, config.limits);
     Ok((study, budget))

@@ -63,6 +63,7 @@ pub fn config(
         client: Default::default(),
         limits: Default::default(),
         connections: Default::default(),
+        check_hashes: true,
     }
 }
 
