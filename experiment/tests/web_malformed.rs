@@ -26,7 +26,10 @@ async fn send(http: &reqwest::Client, base: &str, c: &Case) -> (u16, Value) {
     let url = format!("{base}{}", c.path);
     let req = match c.method {
         "GET" => http.get(&url),
-        _ => http.post(&url).body(c.body.clone().unwrap_or_default()),
+        "POST" => http.post(&url).body(c.body.clone().unwrap_or_default()),
+        m => http
+            .request(m.parse().unwrap(), &url)
+            .body(c.body.clone().unwrap_or_default()),
     };
     let r = req.send().await.unwrap();
     let status = r.status().as_u16();
@@ -318,6 +321,62 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             message: "admin token",
         },
         Case {
+            what: "a method the route does not take",
+            method: "PUT",
+            path: p("answer"),
+            body: Some("{}".into()),
+            status: 405,
+            message: "method",
+        },
+        Case {
+            what: "a body nested past any answer",
+            method: "POST",
+            path: p("answer"),
+            body: Some(format!(
+                "{{\"tab\": {}{}}}",
+                "[".repeat(50_000),
+                "]".repeat(50_000)
+            )),
+            status: 400,
+            message: "field `tab`",
+        },
+        Case {
+            what: "an answer with a field the API does not have",
+            method: "POST",
+            path: p("answer"),
+            body: Some(
+                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
+                       "rt_ms": 500.0, "level": 8})
+                .to_string(),
+            ),
+            status: 400,
+            message: "unknown field `level`",
+        },
+        Case {
+            what: "frame times going back",
+            method: "POST",
+            path: p("answer"),
+            body: Some(
+                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
+                       "rt_ms": 500.0, "frame_times_ms": [20.0, 10.0]})
+                .to_string(),
+            ),
+            status: 400,
+            message: "`frame_times_ms`",
+        },
+        Case {
+            what: "more dropped frames than the trial shows",
+            method: "POST",
+            path: p("answer"),
+            body: Some(
+                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
+                       "rt_ms": 500.0, "dropped_frames": 1_000_000})
+                .to_string(),
+            ),
+            status: 400,
+            message: "`dropped_frames`",
+        },
+        Case {
             what: "admin with a wrong token",
             method: "GET",
             path: format!("/admin?token={}", "f".repeat(32)),
@@ -397,19 +456,26 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
     assert_eq!(r.headers()["x-content-type-options"], "nosniff");
     assert_eq!(r.headers()["referrer-policy"], "no-referrer");
 
-    // The admin token opens the progress.
-    let r = http
-        .get(format!("{base}/admin/progress.json"))
-        .bearer_auth(&server.started.admin_token)
-        .send()
-        .await
-        .unwrap();
-    assert_eq!(r.status(), 200);
-    let v: Value = serde_json::from_slice(&r.bytes().await.unwrap()).unwrap();
-    assert_eq!(
-        (v["enrolled"].as_u64(), v["started"].as_u64()),
-        (Some(2), Some(1))
-    );
+    // The admin token opens the progress: a Bearer header in any case of the scheme, or the
+    // query the page takes.
+    let admin = &server.started.admin_token;
+    let progress = format!("{base}/admin/progress.json");
+    for req in [
+        http.get(&progress).bearer_auth(admin),
+        http.get(&progress)
+            .header("authorization", format!("bearer {admin}")),
+        http.get(&progress)
+            .header("authorization", format!("BEARER  {admin}")),
+        http.get(format!("{progress}?token={admin}")),
+    ] {
+        let r = req.send().await.unwrap();
+        assert_eq!(r.status(), 200);
+        let v: Value = serde_json::from_slice(&r.bytes().await.unwrap()).unwrap();
+        assert_eq!(
+            (v["enrolled"].as_u64(), v["started"].as_u64()),
+            (Some(2), Some(1))
+        );
+    }
 
     // The JSON the browser saw names no level, point set, scene or stimulus.
     let r = http.get(api("state?tab=A")).send().await.unwrap();
@@ -443,5 +509,79 @@ async fn guessing_links_is_rate_limited_per_address() {
     }
     assert_eq!(statuses[0], 404);
     assert_eq!(*statuses.last().unwrap(), 429, "{statuses:?}");
+    server.stop().await;
+}
+
+/// Issue 51 item 6: a connection that sends no request head, or half of one, or stays idle
+/// after a request, is closed after the header timeout; past the connection cap a new one is
+/// closed at once; and the server still answers afterwards.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn slow_idle_and_surplus_connections_are_closed() {
+    use std::io::{Read, Write};
+    use std::net::TcpStream;
+    use std::time::{Duration, Instant};
+    let dir = tempfile::tempdir().unwrap();
+    let study = write_study(dir.path(), &StudySpec::tiny()).unwrap();
+    let design = Design::load(&study.design_path).unwrap();
+    let mut cfg = config(&design.path, &dir.path().join("study"), 1);
+    cfg.connections = experiment::web::connections::Limits {
+        header_read_timeout: Duration::from_millis(700),
+        max_connections: 4,
+    };
+    let server = Running::start(&cfg).await;
+    let addr = server.started.addr;
+    let held = tokio::task::spawn_blocking(move || {
+        // Reads until the server closes; the time it took.
+        let closed_after = |mut s: TcpStream| {
+            let t = Instant::now();
+            s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+            let mut buf = vec![0u8; 4096];
+            loop {
+                match s.read(&mut buf) {
+                    Ok(0) => return t.elapsed(),
+                    Ok(_) => continue,
+                    Err(e)
+                        if e.kind() == std::io::ErrorKind::WouldBlock
+                            || e.kind() == std::io::ErrorKind::TimedOut =>
+                    {
+                        panic!("held open for 10 s")
+                    }
+                    Err(_) => return t.elapsed(),
+                }
+            }
+        };
+        let silent = TcpStream::connect(addr).unwrap();
+        let mut half = TcpStream::connect(addr).unwrap();
+        half.write_all(b"GET /admin HTTP/1.1\r\nHost: x\r\n")
+            .unwrap();
+        let mut idle = TcpStream::connect(addr).unwrap();
+        idle.write_all(b"GET /nothing HTTP/1.1\r\nHost: x\r\n\r\n")
+            .unwrap();
+        let fourth = TcpStream::connect(addr).unwrap();
+        std::thread::sleep(Duration::from_millis(100));
+        // Four held: the fifth is over the cap.
+        let surplus = closed_after(TcpStream::connect(addr).unwrap());
+        let mut out = vec![("surplus", surplus)];
+        for (what, s) in [
+            ("silent", silent),
+            ("half a head", half),
+            ("idle", idle),
+            ("fourth", fourth),
+        ] {
+            out.push((what, closed_after(s)));
+        }
+        out
+    })
+    .await
+    .unwrap();
+    assert!(held[0].1 < Duration::from_millis(500), "{held:?}");
+    for (what, t) in &held[1..] {
+        assert!(*t < Duration::from_secs(3), "{what}: held {t:?}");
+    }
+    // Every permit is back: a request is answered.
+    let r = reqwest::get(format!("http://{addr}/nothing"))
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 404);
     server.stop().await;
 }

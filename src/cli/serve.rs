@@ -19,14 +19,30 @@ pub struct ServeArgs {
     #[arg(long, default_value = "127.0.0.1:8080")]
     pub addr: SocketAddr,
     /// Make sure N subject links exist (w001...) and write them to OUT/links.csv.
-    #[arg(long, value_name = "N", conflicts_with = "open_enrolment")]
+    #[arg(long, value_name = "N", conflicts_with = "open_enrolment",
+          allow_hyphen_values = true, value_parser = parse_subject_count)]
     pub enrol: Option<u32>,
     /// Open enrolment: print a /join link that creates a subject per visit, up to CAP.
-    #[arg(long, value_name = "CAP")]
+    #[arg(long, value_name = "CAP", allow_hyphen_values = true,
+          value_parser = parse_subject_count)]
     pub open_enrolment: Option<u32>,
-    /// The URL subjects reach the server at, for the links (behind a proxy: its https URL).
-    #[arg(long)]
+    /// The URL subjects reach the server at, for the links (behind a proxy: its https URL):
+    /// absolute http(s), without query or fragment.
+    #[arg(long, value_parser = parse_base_url)]
     pub base_url: Option<String>,
+    /// Seconds a connection may take to send a request's head, and may stay idle between
+    /// requests, before it is closed.
+    #[arg(long, value_name = "SECONDS", default_value_t = 30.0,
+          value_parser = renderer::limits::real(0.1, 3600.0, false, "seconds"))]
+    pub header_timeout: f64,
+    /// Do not read every frame at start to compare the manifest's content hash (the other
+    /// checks stay: every stimulus there, with its size and frame count).
+    #[arg(long)]
+    pub skip_hash_check: bool,
+    /// Most connections open at once; more are closed as they arrive.
+    #[arg(long, value_name = "N", default_value_t = 1024,
+          value_parser = clap::value_parser!(u32).range(8..=65_536))]
+    pub max_connections: u32,
     /// Encode the videos (if not yet), print what a session costs a browser, and stop; exits
     /// with an error for a design no browser can hold.
     #[arg(long)]
@@ -142,7 +158,43 @@ fn config(args: &ServeArgs) -> anyhow::Result<experiment::web::Config> {
             session_bytes: (args.budget_gb * 1e9) as u64,
             memory_bytes: (args.memory_budget_gb * 1e9) as u64,
         },
+        check_hashes: !args.skip_hash_check,
+        connections: experiment::web::connections::Limits {
+            header_read_timeout: std::time::Duration::from_secs_f64(args.header_timeout),
+            max_connections: args.max_connections as usize,
+        },
     })
+}
+
+/// `--enrol` and `--open-enrolment`: 1 to `renderer::limits::MAX_SUBJECTS` subjects (a
+/// negative or zero count gets this range, not clap's "unexpected argument").
+fn parse_subject_count(s: &str) -> Result<u32, String> {
+    let n = renderer::limits::parse_subjects(s)?;
+    u32::try_from(n).map_err(|_| format!("`{s}`: too large"))
+}
+
+/// `--base-url`: the address subjects' links start with, so an absolute http(s) URL with a
+/// host, and nothing a link appends to could break (spaces, a query, a fragment).
+fn parse_base_url(s: &str) -> Result<String, String> {
+    let rest = s
+        .strip_prefix("https://")
+        .or_else(|| s.strip_prefix("http://"));
+    let host = rest.map(|r| r.split('/').next().unwrap_or(""));
+    let bad = if host.is_none_or(str::is_empty) {
+        Some(
+            "expected an absolute http:// or https:// URL with a host, e.g. https://study.example.org",
+        )
+    } else if s.chars().any(|c| c.is_whitespace() || c.is_control()) {
+        Some("it holds white space; expected a URL")
+    } else if s.contains(['?', '#']) {
+        Some("it has a query or fragment; expected the server's address alone (links add /s/TOKEN)")
+    } else {
+        None
+    };
+    match bad {
+        Some(why) => Err(format!("`{s}`: {why}")),
+        None => Ok(s.to_string()),
+    }
 }
 
 fn print_budget(b: &Budget) {
@@ -152,5 +204,52 @@ fn print_budget(b: &Budget) {
     }
     for w in b.warnings() {
         println!("warning: {w}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    fn serve(flags: &[&str]) -> Result<ServeArgs, String> {
+        let mut argv = vec!["blurlab", "serve", "--design", "d.json", "--out", "o"];
+        argv.extend(flags);
+        match super::super::Cli::try_parse_from(argv) {
+            Ok(cli) => match cli.command {
+                super::super::Command::Serve(a) => Ok(a),
+                _ => unreachable!("the serve command"),
+            },
+            Err(e) => Err(e.to_string()),
+        }
+    }
+
+    /// Issue 51 item 3: counts out of range get the range, whatever their sign.
+    #[test]
+    fn subject_counts_out_of_range_get_the_range() {
+        for flag in ["--enrol", "--open-enrolment"] {
+            for bad in ["0", "-1", "1001", "x"] {
+                let e = serve(&[flag, bad]).unwrap_err();
+                assert!(e.contains("from 1 to 1000"), "{flag} {bad}: {e}");
+            }
+            assert!(serve(&[flag, "5"]).is_ok());
+        }
+    }
+
+    #[test]
+    fn the_base_url_must_be_an_absolute_http_url_without_query() {
+        for bad in [
+            "javascript:alert(1)",
+            "study.example.org",
+            "https://",
+            "https://a b.org",
+            "https://study.example.org/?x=1",
+            "https://study.example.org/#top",
+        ] {
+            let e = serve(&["--base-url", bad]).unwrap_err();
+            assert!(e.contains("--base-url"), "{bad}: {e}");
+        }
+        let a = serve(&["--base-url", "https://study.example.org/lab"]).unwrap();
+        assert_eq!(a.base_url.as_deref(), Some("https://study.example.org/lab"));
     }
 }

@@ -107,6 +107,8 @@ pub fn config(design: &Path, out: &Path, subjects: u32, client: ClientSettings) 
         base_url: None,
         client,
         limits: Default::default(),
+        connections: Default::default(),
+        check_hashes: true,
     }
 }
 

@@ -34,10 +34,13 @@ pub struct TokenQuery {
 }
 
 fn authorized(app: &App, headers: &HeaderMap, query: Option<&str>) -> Result<(), ApiError> {
+    // RFC 9110: the scheme is case-insensitive, separated from the token by white space.
     let bearer = headers
         .get(header::AUTHORIZATION)
         .and_then(|v| v.to_str().ok())
-        .and_then(|v| v.strip_prefix("Bearer "));
+        .and_then(|v| v.trim().split_once(' '))
+        .filter(|(scheme, _)| scheme.eq_ignore_ascii_case("bearer"))
+        .map(|(_, token)| token.trim());
     let given = bearer.or(query).unwrap_or("");
     let admin = app
         .tokens
@@ -101,8 +104,10 @@ async fn overview_blocking(app: Arc<App>) -> Result<Overview, ApiError> {
 pub async fn progress(
     State(app): State<Arc<App>>,
     headers: HeaderMap,
+    q: Result<Query<TokenQuery>, axum::extract::rejection::QueryRejection>,
 ) -> Result<Response, ApiError> {
-    authorized(&app, &headers, None)?;
+    let query = q.ok().and_then(|Query(q)| q.token);
+    authorized(&app, &headers, query.as_deref())?;
     Ok(axum::Json(overview_blocking(app).await?).into_response())
 }
 

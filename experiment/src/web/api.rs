@@ -38,6 +38,7 @@ pub(crate) fn router(app: Arc<App>, csp: axum::http::HeaderValue) -> Router {
         .route("/admin", get(admin::page))
         .route("/admin/progress.json", get(admin::progress))
         .fallback(not_found)
+        .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
         .layer(axum::middleware::from_fn_with_state(csp, guard::headers))
         .with_state(app)
@@ -45,6 +46,13 @@ pub(crate) fn router(app: Arc<App>, csp: axum::http::HeaderValue) -> Router {
 
 async fn not_found() -> ApiError {
     ApiError::not_found("no such page")
+}
+
+async fn method_not_allowed() -> ApiError {
+    ApiError::new(
+        StatusCode::METHOD_NOT_ALLOWED,
+        "this address does not take that method (docs/web.md, \"HTTP API\", lists each route's)",
+    )
 }
 
 /// The subject behind `token`, after the rate limits: unknown links count against the client's

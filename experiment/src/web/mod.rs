@@ -8,12 +8,14 @@ mod admin;
 mod api;
 pub mod assets;
 pub mod budget;
+pub mod connections;
 pub mod error;
 pub mod export;
 pub mod guard;
 pub mod packs;
 pub mod participant;
 mod redirect;
+mod startup;
 mod stream;
 pub mod study;
 pub mod subject;
@@ -53,6 +55,11 @@ pub struct Config {
     pub client: ClientSettings,
     /// The budget a session is checked against (warnings).
     pub limits: budget::Limits,
+    /// How long and how many connections may be held.
+    pub connections: connections::Limits,
+    /// Read every frame at start and compare the manifest's content hash (`--skip-hash-check`
+    /// turns it off, as for `blurlab run`).
+    pub check_hashes: bool,
 }
 
 /// What a started server tells its operator.
@@ -121,6 +128,7 @@ impl App {
 /// A server bound to its address, ready to run.
 pub struct Server {
     listener: tokio::net::TcpListener,
+    connections: connections::Limits,
     app: Arc<App>,
     pub started: Started,
 }
@@ -164,6 +172,11 @@ impl Server {
             },
             None => tokens.open = None,
         }
+        startup::check_logs(
+            &sessions_dir,
+            tokens.subjects.iter().map(|s| s.subject.as_str()),
+            &study.design,
+        )?;
         tokens.save(&config.out)?;
         let listener = tokio::net::TcpListener::bind(config.addr)
             .await
@@ -175,9 +188,10 @@ impl Server {
             .unwrap_or_else(|| format!("http://{addr}"))
             .trim_end_matches('/')
             .to_string();
-        let links_csv = match config.enrol {
-            Some(_) => Some(tokens.write_links(&config.out, &base_url)?),
-            None => None,
+        // Rewritten whenever it exists, so it never lists links the tokens no longer open.
+        let links_csv = match config.enrol.is_some() || config.out.join("links.csv").exists() {
+            true => Some(tokens.write_links(&config.out, &base_url)?),
+            false => None,
         };
         let started = Started {
             addr,
@@ -215,6 +229,7 @@ impl Server {
         }
         Ok(Self {
             listener,
+            connections: config.connections,
             app: Arc::new(app),
             started,
         })
@@ -224,13 +239,9 @@ impl Server {
     pub async fn run(self, shutdown: impl Future<Output = ()> + Send + 'static) -> Result<()> {
         let csp = guard::csp(self.app.study.client.video_base.as_deref());
         let router = api::router(self.app, csp);
-        axum::serve(
-            self.listener,
-            router.into_make_service_with_connect_info::<SocketAddr>(),
-        )
-        .with_graceful_shutdown(shutdown)
-        .await
-        .context("the HTTP server stopped")
+        connections::serve(self.listener, router, self.connections, shutdown)
+            .await
+            .context("the HTTP server stopped")
     }
 }
 
@@ -244,6 +255,20 @@ pub fn measure_study(
         "--lookahead-frames is 0; expected at least 1"
     );
     let design = Design::load(&config.design)?;
+    // Every stimulus the design shows exists, decodes to the manifest's size and frame count,
+    // and (by default) hashes as rendered, before anyone is told the server is up: a fault
+    // found in front of a subject is one no retry fixes.
+    let checks = crate::preflight::PreflightOptions {
+        check_hashes: config.check_hashes,
+    };
+    crate::preflight::preflight(&design, checks, &renderer::progress::NoProgress)
+        .into_result()
+        .with_context(|| {
+            format!(
+                "{}: the design's stimuli are not ready to serve",
+                config.design.display()
+            )
+        })?;
     let study = Study::load(design, config.client.clone(), progress)?;
     let budget = budget::Budget::of(&study, config.limits);
     Ok((study, budget))

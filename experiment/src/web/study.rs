@@ -114,6 +114,19 @@ impl Study {
         self.videos.get(id)
     }
 
+    /// How many video frames a trial shows: each video's frames, looped, once per pair shown
+    /// one after the other (sequential) or for both pairs at once (simultaneous).
+    pub fn frames_shown(&self) -> u32 {
+        let plays = match self.design.file.layout {
+            Layout::Sequential => 2,
+            Layout::Grid => 1,
+        };
+        self.video
+            .frames
+            .saturating_mul(self.playback.loops)
+            .saturating_mul(plays)
+    }
+
     /// Every video the study can serve, by stimulus id.
     pub fn videos(&self) -> impl Iterator<Item = (&str, &Served)> {
         self.videos.iter().map(|(k, v)| (k.as_str(), v))

@@ -3,7 +3,7 @@
 //! They are kept in `OUT/web/tokens.json` (written atomically) so that a restarted server knows
 //! them; `--enrol N` also writes `OUT/links.csv`.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -78,16 +78,7 @@ impl Tokens {
                 .with_context(|| format!("cannot read {}", path.display()))?;
             let t: Tokens = serde_json::from_str(&text)
                 .with_context(|| format!("{}: not a blurlab tokens file", path.display()))?;
-            for s in &t.subjects {
-                crate::session::check_subject(&s.subject)?;
-                if !looks_like_token(&s.token) {
-                    bail!(
-                        "{}: subject {}: token is not 32 hex digits",
-                        path.display(),
-                        s.subject
-                    );
-                }
-            }
+            super::startup::check_tokens(&t, &path)?;
             return Ok(t);
         }
         Ok(Self {

@@ -133,6 +133,7 @@ pub struct ScreenOut {
 
 /// `POST .../display`: what the browser measured before the first trial.
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DisplayFacts {
     pub tab: String,
     pub screen_px: [u32; 2],
@@ -148,6 +149,7 @@ pub struct DisplayFacts {
 
 /// `POST .../answer`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Answer {
     pub tab: String,
     pub session: u32,

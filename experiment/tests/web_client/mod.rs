@@ -62,6 +62,8 @@ pub fn config(
         base_url: None,
         client: Default::default(),
         limits: Default::default(),
+        connections: Default::default(),
+        check_hashes: true,
     }
 }
 
