@@ -509,6 +509,17 @@ async fn guessing_links_is_rate_limited_per_address() {
     }
     assert_eq!(statuses[0], 404);
     assert_eq!(*statuses.last().unwrap(), 429, "{statuses:?}");
+    // Behind a proxy every subject shares the guesser's address: a known link still opens
+    // (issue 51 item 6).
+    let (_, token) = tokens(&out)[0].clone();
+    let r = post(
+        &http,
+        &format!("{}/api/s/{token}/claim", server.base),
+        json!({"tab": "A"}),
+    )
+    .await
+    .unwrap();
+    assert_eq!(r.status, 200, "{}", r.body);
     server.stop().await;
 }
 

@@ -58,10 +58,9 @@ async fn method_not_allowed() -> ApiError {
 /// The subject behind `token`, after the rate limits: unknown links count against the client's
 /// address, known ones against the link.
 fn lookup(app: &App, token: &str, peer: SocketAddr) -> Result<Arc<Entry>, ApiError> {
+    // Only unknown links count against the address: behind a TLS proxy every subject shares
+    // one address, and guesses there must not lock out the subjects whose links are known.
     let ip = peer.ip().to_string();
-    if !app.per_address.has(&ip) {
-        return Err(too_many());
-    }
     let found = tokens::looks_like_token(token)
         .then(|| {
             app.by_token
@@ -74,10 +73,8 @@ fn lookup(app: &App, token: &str, peer: SocketAddr) -> Result<Arc<Entry>, ApiErr
     match found {
         Some(e) if app.per_link.take(token) => Ok(e),
         Some(_) => Err(too_many()),
-        None => {
-            app.per_address.take(&ip);
-            Err(ApiError::not_found(UNKNOWN_LINK))
-        }
+        None if !app.per_address.take(&ip) => Err(too_many()),
+        None => Err(ApiError::not_found(UNKNOWN_LINK)),
     }
 }
 
@@ -153,24 +150,29 @@ async fn join(
     Path(token): Path<String>,
     q: Result<Query<HashMap<String, String>>, axum::extract::rejection::QueryRejection>,
 ) -> Result<Response, ApiError> {
-    let ip = peer.ip().to_string();
-    if !app.per_address.has(&ip) {
-        return Err(too_many());
+    // As for subject links: only an unknown join link counts against the address, so guesses
+    // behind a shared proxy address do not turn the real participants away.
+    let known = tokens::looks_like_token(&token)
+        && app
+            .tokens
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .open
+            .as_ref()
+            .is_some_and(|o| tokens::same_secret(&o.token, &token));
+    if !known {
+        let ip = peer.ip().to_string();
+        return Err(match app.per_address.take(&ip) {
+            true => ApiError::not_found(UNKNOWN_LINK),
+            false => too_many(),
+        });
     }
     let Query(query) = q.map_err(|e| ApiError::bad_request(format!("the link's query: {e}")))?;
     let app2 = app.clone();
     let made = tokio::task::spawn_blocking(move || participant::join(&app2, &token, &query))
         .await
         .map_err(|e| ApiError::internal(&anyhow::anyhow!("{e}")))?;
-    match made {
-        Ok(t) => Ok(Redirect::to(&format!("/s/{t}")).into_response()),
-        Err(e) => {
-            if e.status == StatusCode::NOT_FOUND {
-                app.per_address.take(&ip);
-            }
-            Err(e)
-        }
-    }
+    made.map(|t| Redirect::to(&format!("/s/{t}")).into_response())
 }
 
 async fn consent(
