@@ -136,7 +136,7 @@ async fn a_thesis_sized_design_plays_exact_in_bounded_memory_without_dropped_fra
     // plus this test's own share (its render just before playback keeps the 1-minute average
     // above the core count for a while) the targets hold exactly: no dropped frame. Busier, CI
     // (BLURLAB_REQUIRE_BROWSER_TESTS=1) still checks that playback degrades gracefully (at most
-    // 2% of a trial's frames dropped); elsewhere the figures are printed (other builds on a shared
+    // 10% of a trial's frames dropped); elsewhere the figures are printed (other builds on a shared
     // machine take the cores; docs/benchmarks/web.md says where the time goes then).
     let cores = std::thread::available_parallelism().map_or(2, |n| n.get()) as f64;
     let required = std::env::var(REQUIRE).is_ok_and(|v| v == "1");
@@ -148,7 +148,7 @@ async fn a_thesis_sized_design_plays_exact_in_bounded_memory_without_dropped_fra
         );
         return;
     }
-    let allowed = if quiet { 0 } else { 2 * 210 / 50 };
+    let allowed = if quiet { 0 } else { 2 * 210 / 10 };
     assert!(
         dropped.iter().all(|&d| d <= allowed),
         "dropped frames {dropped:?}, more than {allowed} a trial (load average {load:.1})"

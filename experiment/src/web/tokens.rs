@@ -3,8 +3,9 @@
 //! They are kept in `OUT/web/tokens.json` (written atomically) so that a restarted server knows
 //! them; `--enrol N` also writes `OUT/links.csv`.
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 /// 128 random bits from the OS, as 32 lowercase hex digits (URL-safe).
@@ -78,7 +79,7 @@ impl Tokens {
                 .with_context(|| format!("cannot read {}", path.display()))?;
             let t: Tokens = serde_json::from_str(&text)
                 .with_context(|| format!("{}: not a blurlab tokens file", path.display()))?;
-            super::startup::check_tokens(&t, &path)?;
+            check_tokens(&t, &path)?;
             return Ok(t);
         }
         Ok(Self {
@@ -146,6 +147,56 @@ impl Tokens {
         renderer::atomic::write_atomic(&path, text.as_bytes())?;
         Ok(path)
     }
+}
+
+/// `tokens` (read from `path`) hold tokens where tokens go, and no token or subject twice.
+pub fn check_tokens(tokens: &Tokens, path: &Path) -> Result<()> {
+    let at = path.display();
+    let token_rule = "expected 32 lowercase hex digits, as `blurlab serve` writes them (delete \
+                      the file to make new ones; subjects' links change)";
+    if !looks_like_token(&tokens.admin) {
+        bail!("{at}: field `admin` is not a token; {token_rule}");
+    }
+    if let Some(open) = &tokens.open
+        && !looks_like_token(&open.token)
+    {
+        bail!("{at}: field `open.token` is not a token; {token_rule}");
+    }
+    let mut by_token: std::collections::HashMap<&str, &str> = Default::default();
+    let mut by_subject: HashSet<&str> = HashSet::new();
+    for (i, s) in tokens.subjects.iter().enumerate() {
+        crate::session::check_subject(&s.subject)
+            .map_err(|e| anyhow::anyhow!("{at}: field `subjects[{i}].subject`: {e}"))?;
+        if !looks_like_token(&s.token) {
+            bail!(
+                "{at}: field `subjects[{i}].token` (subject {}) is not a token; {token_rule}",
+                s.subject
+            );
+        }
+        if let Some(other) = by_token.insert(&s.token, &s.subject) {
+            bail!(
+                "{at}: subjects {other} and {} have the same token; each subject needs their \
+                 own (two sessions would write one log)",
+                s.subject
+            );
+        }
+        if !by_subject.insert(&s.subject) {
+            bail!(
+                "{at}: subject {} has two tokens (two entries of `subjects`); keep one",
+                s.subject
+            );
+        }
+        let open = tokens.open.as_ref().map(|o| o.token.as_str());
+        for (field, secret) in [("admin", Some(tokens.admin.as_str())), ("open.token", open)] {
+            if secret == Some(s.token.as_str()) {
+                bail!(
+                    "{at}: subject {}'s token is also `{field}`; each token must differ",
+                    s.subject
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
