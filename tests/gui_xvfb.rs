@@ -13,9 +13,9 @@
 use experiment::Design;
 use experiment::design::Layout;
 use experiment::fixture::{Study, StudySpec, write_study};
-use experiment::frames::{RgbFrame, VideoSource, load_frame};
-use experiment::layout::{PxRect, VideoLayout};
 use experiment::log::{SessionLog, Side};
+use experiment::playback::frames::{RgbFrame, VideoSource, load_frame};
+use experiment::playback::layout::{PxRect, VideoLayout};
 use experiment::trials::{Trial, plan};
 use renderer::manifest::Manifest;
 use serde_json::json;

@@ -6,7 +6,7 @@
 use analysis::options::{AnalyzeOptions, run_report};
 use experiment::Design;
 use experiment::log::SessionLog;
-use experiment::log_writer::Durability;
+use experiment::log::writer::Durability;
 use experiment::session::{Session, StartInfo, Timing};
 use renderer::hash::hash;
 use std::path::Path;
@@ -81,7 +81,7 @@ fn simulate(design: &Design, dir: &Path, subject: &str, kind: Kind) {
             ..Timing::default()
         };
         s.answer(response, timing).unwrap();
-        if s.stage() == experiment::Stage::Break {
+        if s.phase() == experiment::Phase::Break {
             s.advance();
         }
     }

@@ -4,11 +4,11 @@
 //! procedure could not run it (`crate::procedure::check`), and the procedures read the design's
 //! types, so the types cannot do the loading without a module cycle.
 
+use crate::design::keys::{self, RESERVED_KEYS};
 use crate::design::{
     DESIGN_FORMAT, Design, DesignFile, MAX_ALTERNATIVES, MAX_PLAYBACK_FPS, MAX_TRIALS, Playback,
     ReferenceChoice, ResponseKeys, Task,
 };
-use crate::keys::{self, RESERVED_KEYS};
 use anyhow::{Result, bail};
 use renderer::paths::lexical_normal;
 use std::collections::BTreeSet;

@@ -6,19 +6,19 @@
 //! ```
 //!
 //! Screens (instructions, end of practice, breaks) are left with [`Session::advance`]; a trial
-//! is left with [`Session::answer`], which stores the trial's log line before the next stage
+//! is left with [`Session::answer`], which stores the trial's log line before the next phase
 //! exists. [`Session::open`] on an existing log continues at the next unanswered trial of the
 //! same list, after checking that the log belongs to this subject and this exact design and
 //! that every logged trial is the planned one.
 //!
 //! The log is behind [`LogSink`]: a file for the app and `blurlab simulate`
 //! ([`Session::open`]), memory for `plan` and other simulations that keep nothing on disk
-//! ([`Session::open_with`] and a [`crate::log_sink::MemoryLog`]).
+//! ([`Session::open_with`] and a [`crate::log::sink::MemoryLog`]).
 
 use crate::design::{Design, Task};
+use crate::log::sink::{FileLog, LogSink};
+use crate::log::writer::{Durability, whole_lines_len};
 use crate::log::{Display, Header, LOG_FORMAT, LogLine, Resume, SessionLog, TrialRecord};
-use crate::log_sink::{FileLog, LogSink};
-use crate::log_writer::{Durability, whole_lines_len};
 use crate::procedure::{self, Procedure, TrackEstimate};
 use crate::trials::{self, Trial};
 use anyhow::{Result, bail};
@@ -26,7 +26,7 @@ use std::path::Path;
 
 /// Where a session is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stage {
+pub enum Phase {
     Instructions,
     /// Presenting practice trial `i` (index into [`Session::practice`]).
     Practice(usize),
@@ -89,7 +89,7 @@ pub struct Session {
     started: bool,
     practice_done: usize,
     main_done: usize,
-    stage: Stage,
+    phase: Phase,
     warnings: Vec<String>,
     /// Goes into a new log's header (`set_participant`).
     participant: Option<crate::log::Participant>,
@@ -151,7 +151,7 @@ impl Session {
             started: false,
             practice_done: 0,
             main_done: 0,
-            stage: Stage::Instructions,
+            phase: Phase::Instructions,
             warnings: Vec::new(),
             participant: None,
         };
@@ -283,7 +283,7 @@ impl Session {
             self.log.create(&header)?;
         }
         self.started = true;
-        self.stage = Stage::Instructions;
+        self.phase = Phase::Instructions;
         Ok(())
     }
 
@@ -292,15 +292,15 @@ impl Session {
         self.participant = Some(p);
     }
 
-    pub fn stage(&self) -> Stage {
-        self.stage
+    pub fn phase(&self) -> Phase {
+        self.phase
     }
 
-    /// The trial being presented, if the stage is a trial.
+    /// The trial being presented, if the phase is a trial.
     pub fn trial(&self) -> Option<&Trial> {
-        match self.stage {
-            Stage::Practice(i) => self.practice.get(i),
-            Stage::Trial(_) => self.procedure.current(),
+        match self.phase {
+            Phase::Practice(i) => self.practice.get(i),
+            Phase::Trial(_) => self.procedure.current(),
             _ => None,
         }
     }
@@ -308,23 +308,23 @@ impl Session {
     /// The trial after the current one (what to load next), if no answer to the current one
     /// can change it.
     pub fn next_trial(&self) -> Option<Trial> {
-        match self.stage {
-            Stage::Practice(i) => self
+        match self.phase {
+            Phase::Practice(i) => self
                 .practice
                 .get(i + 1)
                 .or_else(|| self.procedure.current())
                 .cloned(),
-            Stage::Trial(_) => self.procedure.after_current(),
+            Phase::Trial(_) => self.procedure.after_current(),
             _ => None,
         }
     }
 
-    /// Up to `n` trials from the one presented now (or presented next, at a screen stage) that
+    /// Up to `n` trials from the one presented now (or presented next, at a screen phase) that
     /// no answer can change: the practice trials left, then the main ones as far as the
     /// procedure knows them (constant stimuli: all; adaptive: the next if it is certain).
     pub fn upcoming(&self, n: usize) -> Vec<Trial> {
         let mut out = Vec::new();
-        if self.stage == Stage::Finished {
+        if self.phase == Phase::Finished {
             return out;
         }
         if self.main_done == 0 {
@@ -347,23 +347,23 @@ impl Session {
         out
     }
 
-    /// Leave a screen stage (instructions, end of practice, break) for the next trial.
+    /// Leave a screen phase (instructions, end of practice, break) for the next trial.
     pub fn advance(&mut self) {
         if matches!(
-            self.stage,
-            Stage::Instructions | Stage::PracticeDone | Stage::Break
+            self.phase,
+            Phase::Instructions | Phase::PracticeDone | Phase::Break
         ) {
-            self.stage = self.next_trial_stage();
+            self.phase = self.next_trial_phase();
         }
     }
 
-    fn next_trial_stage(&self) -> Stage {
+    fn next_trial_phase(&self) -> Phase {
         if self.main_done == 0 && self.practice_done < self.practice.len() {
-            Stage::Practice(self.practice_done)
+            Phase::Practice(self.practice_done)
         } else if self.procedure.current().is_some() {
-            Stage::Trial(self.main_done)
+            Phase::Trial(self.main_done)
         } else {
-            Stage::Finished
+            Phase::Finished
         }
     }
 
@@ -371,7 +371,7 @@ impl Session {
     /// (on disk, for a file log) when this returns; then the session moves on.
     pub fn answer(&mut self, response: u8, timing: Timing) -> Result<Answered> {
         let Some(trial) = self.trial() else {
-            bail!("no trial is being presented (stage {:?})", self.stage);
+            bail!("no trial is being presented (phase {:?})", self.phase);
         };
         if response != 1 && response != 2 {
             bail!("response {response}: expected pair 1 or 2");
@@ -385,25 +385,25 @@ impl Session {
             bail!("session not started: call start() before answering");
         }
         self.log.append(&LogLine::Trial(record))?;
-        self.stage = if answered.practice {
+        self.phase = if answered.practice {
             self.practice_done += 1;
             if self.practice_done < self.practice.len() {
-                Stage::Practice(self.practice_done)
+                Phase::Practice(self.practice_done)
             } else if self.procedure.current().is_none() {
-                Stage::Finished
+                Phase::Finished
             } else {
-                Stage::PracticeDone
+                Phase::PracticeDone
             }
         } else {
             self.procedure.answer(answered.correct);
             self.main_done += 1;
             let every = self.design.file.break_every as usize;
             if self.procedure.current().is_none() {
-                Stage::Finished
+                Phase::Finished
             } else if every > 0 && self.main_done.is_multiple_of(every) {
-                Stage::Break
+                Phase::Break
             } else {
-                Stage::Trial(self.main_done)
+                Phase::Trial(self.main_done)
             }
         };
         Ok(answered)

@@ -6,10 +6,10 @@
 
 use crate::design::Design;
 use crate::log::SessionLog;
-use crate::log_sink::{LogSink, MemoryLog};
-use crate::log_writer::Durability;
+use crate::log::sink::{LogSink, MemoryLog};
+use crate::log::writer::Durability;
 use crate::observer::Observer;
-use crate::session::{Session, Stage, StartInfo, Timing};
+use crate::session::{Phase, Session, StartInfo, Timing};
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -134,14 +134,14 @@ fn refuse_a_persons_log(path: &Path) -> Result<()> {
 /// Drive a started session to its end with the observer's answers.
 pub fn answer_all(session: &mut Session, observer: &Observer) -> Result<()> {
     loop {
-        match session.stage() {
-            Stage::Instructions | Stage::PracticeDone | Stage::Break => session.advance(),
-            Stage::Practice(_) | Stage::Trial(_) => {
-                let trial = session.trial().expect("a trial stage has a trial");
+        match session.phase() {
+            Phase::Instructions | Phase::PracticeDone | Phase::Break => session.advance(),
+            Phase::Practice(_) | Phase::Trial(_) => {
+                let trial = session.trial().expect("a trial phase has a trial");
                 let response = observer.respond(trial, session.subject())?;
                 session.answer(response, Timing::default())?;
             }
-            Stage::Finished => return Ok(()),
+            Phase::Finished => return Ok(()),
         }
     }
 }

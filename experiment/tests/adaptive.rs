@@ -3,9 +3,9 @@
 //! (the procedure's state is rebuilt by replaying the logged answers). One test kills a real
 //! child process with SIGKILL while it writes; the others cut a complete log at every line.
 
+use experiment::log::writer::Durability;
 use experiment::log::{SessionLog, TrialRecord};
-use experiment::log_writer::Durability;
-use experiment::session::{Session, Stage};
+use experiment::session::{Phase, Session};
 use experiment::simulate::answer_all;
 use experiment::trials::Trial;
 use experiment::{Design, Observer};
@@ -45,8 +45,8 @@ fn reference(f: &Fixture) -> Vec<TrialRecord> {
 /// Screens passed, the trial the resumed session presents first.
 fn first_trial(s: &mut Session) -> Option<Trial> {
     while matches!(
-        s.stage(),
-        Stage::Instructions | Stage::PracticeDone | Stage::Break
+        s.phase(),
+        Phase::Instructions | Phase::PracticeDone | Phase::Break
     ) {
         s.advance();
     }
@@ -94,13 +94,13 @@ fn kill_child() {
     let observer = Observer::parse(Path::new("o.json"), OBSERVER).unwrap();
     let mut s = start(&design, &dir.join("s01.jsonl"), Durability::Sync);
     loop {
-        match s.stage() {
-            Stage::Practice(_) | Stage::Trial(_) => {
+        match s.phase() {
+            Phase::Practice(_) | Phase::Trial(_) => {
                 let r = observer.respond(s.trial().unwrap(), "s01").unwrap();
                 s.answer(r, Default::default()).unwrap();
                 std::thread::sleep(Duration::from_millis(15));
             }
-            Stage::Finished => return,
+            Phase::Finished => return,
             _ => s.advance(),
         }
     }

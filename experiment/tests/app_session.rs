@@ -8,13 +8,13 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use experiment::app::{Pacing, SessionApp};
 use experiment::fixture::{Study, StudySpec, write_study};
-use experiment::frame_store::{FrameDir, MemoryFrames};
-use experiment::frames::RgbFrame;
 use experiment::log::SessionLog;
-use experiment::log_sink::MemoryLog;
-use experiment::log_writer::Durability;
+use experiment::log::sink::MemoryLog;
+use experiment::log::writer::Durability;
+use experiment::playback::frame_store::{FrameDir, MemoryFrames};
+use experiment::playback::frames::RgbFrame;
 use experiment::preflight::{PreflightOptions, needed_stimuli, preflight};
-use experiment::{Design, Session, Stage};
+use experiment::{Design, Phase, Session};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -78,8 +78,8 @@ fn step_until(h: &mut Harness<'_, SessionApp>, what: &str, done: impl Fn(&Sessio
         h.step();
     }
     panic!(
-        "never reached: {what} (stage {:?}, error {:?})",
-        h.state().session().stage(),
+        "never reached: {what} (phase {:?}, error {:?})",
+        h.state().session().phase(),
         h.state().fatal_error()
     );
 }
@@ -110,10 +110,10 @@ fn a_whole_session_by_keys_and_buttons_is_logged_with_its_timing() {
     let mut answers = vec!["1", "ArrowRight", "button", "2", "ArrowLeft"].into_iter();
     let mut seen = vec![];
     loop {
-        let stage = h.state().session().stage();
-        seen.push(stage);
-        match stage {
-            Stage::Practice(_) | Stage::Trial(_) => {
+        let phase = h.state().session().phase();
+        seen.push(phase);
+        match phase {
+            Phase::Practice(_) | Phase::Trial(_) => {
                 step_until(&mut h, "the response screen", SessionApp::responding);
                 match answers.next().unwrap() {
                     "button" => {
@@ -122,18 +122,18 @@ fn a_whole_session_by_keys_and_buttons_is_logged_with_its_timing() {
                     }
                     k => press(&mut h, Key::from_name(k).unwrap()),
                 }
-                if matches!(stage, Stage::Practice(_)) {
+                if matches!(phase, Phase::Practice(_)) {
                     // Practice feedback stays up for a second.
                     h.run_steps(70);
                 }
             }
-            Stage::PracticeDone | Stage::Break => press(&mut h, Key::Space),
-            Stage::Instructions => panic!("still at the instructions"),
-            Stage::Finished => break,
+            Phase::PracticeDone | Phase::Break => press(&mut h, Key::Space),
+            Phase::Instructions => panic!("still at the instructions"),
+            Phase::Finished => break,
         }
     }
     seen.dedup();
-    use Stage::*;
+    use Phase::*;
     assert_eq!(
         seen,
         vec![
@@ -218,7 +218,7 @@ fn pause_restarts_the_presentation_and_quit_keeps_answers_for_resume() {
     let mut h = harness(app, 1.0);
     assert!(h.state().session().resumed());
     start(&mut h);
-    assert_eq!(h.state().session().stage(), Stage::Trial(1));
+    assert_eq!(h.state().session().phase(), Phase::Trial(1));
     step_until(&mut h, "the response screen", SessionApp::responding);
     h.get_by_label("Pair 2").click();
     h.step();
@@ -314,15 +314,15 @@ fn a_session_runs_from_frames_and_a_log_in_memory() {
     let mut h = harness(app, 1.0);
     start(&mut h);
     loop {
-        match h.state().session().stage() {
-            Stage::Practice(_) | Stage::Trial(_) => {
+        match h.state().session().phase() {
+            Phase::Practice(_) | Phase::Trial(_) => {
                 step_until(&mut h, "the response screen", SessionApp::responding);
                 press(&mut h, Key::Num1);
                 h.run_steps(70); // practice feedback, if any
             }
-            Stage::PracticeDone | Stage::Break => press(&mut h, Key::Space),
-            Stage::Instructions => panic!("still at the instructions"),
-            Stage::Finished => break,
+            Phase::PracticeDone | Phase::Break => press(&mut h, Key::Space),
+            Phase::Instructions => panic!("still at the instructions"),
+            Phase::Finished => break,
         }
     }
     assert_eq!(h.state().fatal_error(), None);

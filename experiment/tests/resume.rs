@@ -4,9 +4,9 @@
 //! uninterrupted session gives. The kill is simulated by truncating a complete log.
 
 use experiment::Design;
+use experiment::log::writer::Durability;
 use experiment::log::{LogLine, SessionLog, TrialRecord};
-use experiment::log_writer::Durability;
-use experiment::session::{Session, Stage};
+use experiment::session::{Phase, Session};
 use experiment::simulate::answer_all;
 use std::path::Path;
 use support::{Fixture, info};
@@ -36,13 +36,13 @@ fn start(f: &Fixture, durability: Durability) -> Session {
 fn answer_some(f: &Fixture, s: &mut Session, n: usize) {
     let mut answered = 0;
     while answered < n {
-        match s.stage() {
-            Stage::Practice(_) | Stage::Trial(_) => {
+        match s.phase() {
+            Phase::Practice(_) | Phase::Trial(_) => {
                 let r = f.observer.respond(s.trial().unwrap(), "s01").unwrap();
                 s.answer(r, Default::default()).unwrap();
                 answered += 1;
             }
-            Stage::Finished => return,
+            Phase::Finished => return,
             _ => s.advance(),
         }
     }
@@ -93,13 +93,13 @@ fn killed_between_writes_continues_at_the_next_unanswered_trial() {
         s.start(info()).unwrap();
         s.advance();
         let expected = if practice_kept < 2 {
-            Stage::Practice(practice_kept)
+            Phase::Practice(practice_kept)
         } else if main_kept < 8 {
-            Stage::Trial(main_kept)
+            Phase::Trial(main_kept)
         } else {
-            Stage::Finished
+            Phase::Finished
         };
-        assert_eq!(s.stage(), expected, "cut after line {k}");
+        assert_eq!(s.phase(), expected, "cut after line {k}");
         answer_all(&mut s, &f.observer).unwrap();
         let log = SessionLog::read(&f.path).unwrap();
         assert_eq!(log.trials, want, "cut after line {k}");
@@ -216,20 +216,20 @@ fn a_changed_design_another_subject_or_a_foreign_trial_is_refused() {
 fn breaks_come_every_n_main_trials_and_the_end_after_the_last() {
     let f = fixture();
     let mut s = start(&f, Durability::Flush);
-    let mut stages = vec![s.stage()];
+    let mut phases = vec![s.phase()];
     loop {
-        match s.stage() {
-            Stage::Practice(_) | Stage::Trial(_) => {
+        match s.phase() {
+            Phase::Practice(_) | Phase::Trial(_) => {
                 s.answer(1, Default::default()).unwrap();
             }
-            Stage::Finished => break,
+            Phase::Finished => break,
             _ => s.advance(),
         }
-        stages.push(s.stage());
+        phases.push(s.phase());
     }
-    use Stage::*;
+    use Phase::*;
     assert_eq!(
-        stages,
+        phases,
         vec![
             Instructions,
             Practice(0),

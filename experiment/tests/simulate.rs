@@ -3,7 +3,7 @@
 //! that follow the observer's psychometric function.
 
 use experiment::log::SessionLog;
-use experiment::log_sink::MemoryLog;
+use experiment::log::sink::MemoryLog;
 use experiment::simulate::{simulate, simulate_in_memory, simulate_subject_to};
 use experiment::trials::plan;
 use experiment::{Design, Observer};
@@ -112,7 +112,7 @@ fn a_design_with_another_task_is_not_presented() {
 /// answers, and a simulation does not replace a person's log (it used to delete it).
 #[test]
 fn a_log_of_another_mode_is_neither_continued_nor_replaced() {
-    use experiment::log_writer::Durability;
+    use experiment::log::writer::Durability;
     use experiment::session::{Session, StartInfo};
     let design = Design::load(&repo("scenes/thesis/design.json")).unwrap();
     let observer = Observer::load(&repo("scenes/thesis/observer.json")).unwrap();

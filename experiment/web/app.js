@@ -13,7 +13,7 @@ import {
 } from "./calibrate.js";
 import { closeAll, decodeFrame, decoders, drawPairs, play, prime, tooSmall } from "./trial.js";
 import { VideoStore } from "./videos.js";
-import { fitCanvas, windowDevicePx } from "./stage.js";
+import { fitCanvas, windowDevicePx } from "./canvas.js";
 import { message, nextKey, setScreen, sleep } from "./ui.js";
 
 const HEARTBEAT_MS = 5000;
@@ -22,7 +22,7 @@ const LEAVE_GUARD_MS = 800;
 const ELSEWHERE = "This session is open in another tab or window. Continue there, or close that " +
   "one and reload this page after 20 seconds.";
 
-const canvas = document.getElementById("stage");
+const canvas = document.getElementById("canvas");
 let fullscreen = false;
 let refreshMs = null;
 let stopped = false;

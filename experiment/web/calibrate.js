@@ -5,7 +5,7 @@
 // distance when the dot vanishes) / tan(13.5 deg)). Everything works from the keyboard; the card
 // can also be dragged by its corner.
 
-import { fitCanvas, windowDevicePx } from "./stage.js";
+import { fitCanvas, windowDevicePx } from "./canvas.js";
 import { hidePanel, isSpace, message, setScreen } from "./ui.js";
 
 export const CARD_MM = [85.6, 53.98];

@@ -11,7 +11,7 @@
 // the first refresh at or after its due time is counted as late. A pair starts only once its
 // first frames are decoded (before the trial for pair 1, during the gap for pair 2).
 
-import { drawBlank, drawFixation, fitCanvas, videoRects, windowDevicePx } from "./stage.js";
+import { drawBlank, drawFixation, fitCanvas, videoRects, windowDevicePx } from "./canvas.js";
 
 // rAF timestamps of a refresh that falls exactly on a frame's due time may come a hair early.
 const DUE_TOLERANCE_MS = 0.5;

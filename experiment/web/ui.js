@@ -13,7 +13,7 @@ export function setScreen(name) {
 
 /** A text screen: title, body, hint (what to press). */
 export function message(name, title, text, hint = "") {
-  $("stage").hidden = true;
+  $("canvas").hidden = true;
   $("card-area").hidden = true;
   const panel = $("panel");
   panel.hidden = false;

@@ -363,7 +363,7 @@ pub async fn held_frame_is_a_stimulus(
         // Base64 keeps a 768x768 read-back small enough for WebDriver's JSON.
         let encoded = b
             .js(&format!(
-                "const c = document.getElementById('stage').getContext('2d'); \
+                "const c = document.getElementById('canvas').getContext('2d'); \
                  const d = c.getImageData({x}, {y}, {w}, {h}).data; let s = ''; \
                  for (let i = 0; i < d.length; i += 0x8000) \
                    s += String.fromCharCode.apply(null, d.subarray(i, i + 0x8000)); \

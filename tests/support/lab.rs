@@ -5,10 +5,10 @@
 use egui::Key;
 use egui_kittest::Harness;
 use experiment::app::{Pacing, SessionApp};
-use experiment::frame_store::FrameDir;
-use experiment::log_writer::Durability;
+use experiment::log::writer::Durability;
+use experiment::playback::frame_store::FrameDir;
 use experiment::preflight::{PreflightOptions, preflight};
-use experiment::{Design, Session, Stage};
+use experiment::{Design, Phase, Session};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -29,13 +29,13 @@ pub fn run(design_path: &Path, subject: &str, log: &Path) {
     h.run_steps(61);
     press(&mut h, Key::Space);
     for _ in 0..100_000 {
-        match h.state().session().stage() {
-            Stage::Practice(_) | Stage::Trial(_) if h.state().responding() => {
+        match h.state().session().phase() {
+            Phase::Practice(_) | Phase::Trial(_) if h.state().responding() => {
                 press(&mut h, Key::Num1);
                 h.run_steps(70); // practice feedback, if any
             }
-            Stage::PracticeDone | Stage::Break => press(&mut h, Key::Space),
-            Stage::Finished => return,
+            Phase::PracticeDone | Phase::Break => press(&mut h, Key::Space),
+            Phase::Finished => return,
             _ if h.state().loading() => std::thread::sleep(std::time::Duration::from_millis(2)),
             _ => {}
         }

@@ -12,7 +12,7 @@ use crate::observer::model::shape;
 use crate::observer::model::video::{ADAPTATION_FLOOR, Filters, Viewing, frame_sums};
 use anyhow::{Context, Result, bail};
 use experiment::display::DisplaySpec;
-use experiment::frames::{VideoSource, load_frame};
+use experiment::playback::frames::{VideoSource, load_frame};
 use renderer::manifest::Manifest;
 use std::fmt::Write as _;
 use std::path::Path;

@@ -18,7 +18,7 @@ use crate::observer::model::video::{ADAPTATION_FLOOR, Filters, Viewing, frame_di
 use anyhow::{Context, Result, bail};
 use experiment::Design;
 use experiment::display::DisplaySpec;
-use experiment::frames::{VideoSource, load_frame};
+use experiment::playback::frames::{VideoSource, load_frame};
 use experiment::predicted::{Curve, PredictedRow};
 use experiment::psychometric::TARGET;
 use experiment::trials::Condition;

@@ -1,12 +1,12 @@
 //! Loading a trial's videos into GPU textures: frames are decoded (and made RGBA) on worker
-//! threads in the order they are due ([`crate::stream::loading_order`]) and uploaded by the UI
+//! threads in the order they are due ([`crate::playback::stream::loading_order`]) and uploaded by the UI
 //! thread in that order, a few per repaint, so the frames loaded are always a prefix of each
-//! video and the trial can start before the last is in ([`crate::stream::can_start`]).
+//! video and the trial can start before the last is in ([`crate::playback::stream::can_start`]).
 //! Frames come from a [`FrameStore`] (the stimulus folder, or memory). Textures use nearest
 //! filtering: a video pixel is a screen pixel.
 
-use crate::frame_store::{FrameStore, StoredVideo};
-use crate::stream::{self, Due};
+use crate::playback::frame_store::{FrameStore, StoredVideo};
+use crate::playback::stream::{self, Due};
 use egui::{ColorImage, Context, TextureHandle, TextureOptions};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -192,8 +192,8 @@ fn decode_jobs(
 mod tests {
     use super::*;
     use crate::fixture::{StudySpec, write_study};
-    use crate::frame_store::{FrameDir, MemoryFrames};
-    use crate::frames::RgbFrame;
+    use crate::playback::frame_store::{FrameDir, MemoryFrames};
+    use crate::playback::frames::RgbFrame;
     use egui::epaint::ImageData;
     use renderer::manifest::Manifest;
 

@@ -10,9 +10,9 @@ mod video_painter;
 pub use session_app::{Pacing, SessionApp};
 
 use crate::design::Design;
-use crate::frame_store::FrameDir;
-use crate::log_writer::Durability;
+use crate::log::writer::Durability;
 use crate::paths::sessions_dir;
+use crate::playback::frame_store::FrameDir;
 use crate::preflight::{PreflightOptions, preflight};
 use crate::session::Session;
 use anyhow::{Context, Result};

@@ -4,8 +4,8 @@
 
 use super::loader::{Budget, LoadState, Loader, Video};
 use crate::design::Design;
-use crate::frame_store::{FrameStore, StoredVideo};
-use crate::stream;
+use crate::playback::frame_store::{FrameStore, StoredVideo};
+use crate::playback::stream;
 use crate::trials::Trial;
 use std::collections::HashMap;
 use std::sync::Arc;

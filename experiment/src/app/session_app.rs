@@ -7,12 +7,12 @@ mod trial;
 use super::prefetch::VideoCache;
 use super::screens;
 use super::video_painter::Screen;
-use crate::frame_store::FrameStore;
-use crate::layout::VideoLayout;
 use crate::log::Display;
-use crate::presentation::Presentation;
-use crate::refresh::RefreshMeter;
-use crate::session::{Session, Stage, StartInfo};
+use crate::playback::frame_store::FrameStore;
+use crate::playback::layout::VideoLayout;
+use crate::playback::presentation::Presentation;
+use crate::playback::refresh::RefreshMeter;
+use crate::session::{Phase, Session, StartInfo};
 use egui::{Color32, Key, RichText, ViewportCommand};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -56,12 +56,12 @@ pub struct SessionApp {
 
 impl SessionApp {
     /// The app over `session`, its videos from `store` (`run`: the stimulus folder,
-    /// [`crate::frame_store::FrameDir`]).
+    /// [`crate::playback::frame_store::FrameDir`]).
     pub fn new(session: Session, store: Arc<dyn FrameStore>, pacing: Pacing) -> Self {
         let keys = |names: &[String]| -> Vec<Key> {
             names
                 .iter()
-                .filter_map(|n| Key::from_name(crate::keys::canonical(n)))
+                .filter_map(|n| Key::from_name(crate::design::keys::canonical(n)))
                 .collect()
         };
         let d = &session.design().file;
@@ -198,7 +198,7 @@ impl SessionApp {
             self.pause_screen(ui, now);
             return;
         }
-        if ctx.input(|i| i.key_pressed(Key::Escape)) && self.session.stage() != Stage::Finished {
+        if ctx.input(|i| i.key_pressed(Key::Escape)) && self.session.phase() != Phase::Finished {
             self.paused_at = Some(now);
             ctx.request_repaint();
             return;
@@ -213,9 +213,9 @@ impl SessionApp {
             }
             self.feedback = None;
         }
-        match self.session.stage() {
-            Stage::Instructions => self.instructions(ui, now),
-            Stage::PracticeDone => {
+        match self.session.phase() {
+            Phase::Instructions => self.instructions(ui, now),
+            Phase::PracticeDone => {
                 let body = if self.session.design().file.practice.feedback {
                     "The experiment starts now. It works exactly like the practice, without \
                      being told whether you were right."
@@ -224,8 +224,8 @@ impl SessionApp {
                 };
                 self.screen(ui, "Practice is over", body);
             }
-            Stage::Break => self.break_screen(ui),
-            Stage::Finished => {
+            Phase::Break => self.break_screen(ui),
+            Phase::Finished => {
                 screens::message(
                     ui,
                     "Thank you!",
@@ -236,7 +236,7 @@ impl SessionApp {
                     self.close(&ctx);
                 }
             }
-            Stage::Practice(_) | Stage::Trial(_) => self.trial(ui, now),
+            Phase::Practice(_) | Phase::Trial(_) => self.trial(ui, now),
         }
     }
 

@@ -4,9 +4,9 @@
 //! the display's scale factor. With nearest filtering each pixel centre samples one texel's
 //! centre: no resampling, no blur.
 
-use crate::layout::{PxRect, VideoLayout};
 use crate::log::Side;
-use crate::presentation::Pairs;
+use crate::playback::layout::{PxRect, VideoLayout};
+use crate::playback::presentation::Pairs;
 use crate::trials::Trial;
 use egui::{Align2, Color32, Painter, Rect, TextureHandle, pos2, vec2};
 

@@ -4,10 +4,10 @@
 //! `docs/experiment.md`). [`Design::load`] (`crate::design_load`) validates everything a session relies on,
 //! naming the file and the field of every problem; `procedure` is the `procedure` field.
 
+pub mod keys;
 pub mod online;
 pub mod procedure;
 
-use crate::keys;
 use procedure::ProcedureSpec;
 use renderer::condition::{Condition, PointSetKind, TimeFilter};
 use serde::{Deserialize, Serialize};

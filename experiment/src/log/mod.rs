@@ -1,10 +1,13 @@
 //! The session log (`results/<study>/sessions/<subject>.jsonl`), format `blurlab-session/1`:
 //! JSON Lines, append-only. The first line is the [`Header`]; every completed trial adds one
 //! [`TrialRecord`] line, written, flushed and synced before the next trial starts (see
-//! [`crate::log_writer`]). A session continued after an interruption adds a [`Resume`] line
+//! [`crate::log::writer`]). A session continued after an interruption adds a [`Resume`] line
 //! where it picked up.
 //! A torn last line (a crash mid-write) is ignored with a warning; any other bad line is an error
 //! naming the file and line number.
+
+pub mod sink;
+pub mod writer;
 
 use anyhow::{Context, Result, bail};
 use renderer::condition::{Condition, PointSetKind, TimeFilter};
@@ -212,7 +215,7 @@ impl SessionLog {
         Self::parse(path, bytes)
     }
 
-    /// [`SessionLog::read`] of a log's bytes (a file's, or a [`crate::log_sink::MemoryLog`]'s);
+    /// [`SessionLog::read`] of a log's bytes (a file's, or a [`crate::log::sink::MemoryLog`]'s);
     /// `path` names it in messages.
     pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<Self> {
         parse_log(path, &utf8_text(path, bytes)?)

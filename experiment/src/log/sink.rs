@@ -1,13 +1,13 @@
 //! Where a session's log lines go: the [`LogSink`] seam between the session machine and storage.
 //! The app and `blurlab simulate` write a file ([`FileLog`]: the header written atomically,
 //! every line pushed to disk before the session moves on, a torn last line repaired on reopen,
-//! `log_writer`); `plan` and the efficiency runs keep each simulated log in memory
+//! `log::writer`); `plan` and the efficiency runs keep each simulated log in memory
 //! ([`MemoryLog`]) and read it back without touching the file system. Both hold the same bytes
 //! for the same lines, and repair a torn tail the same way, so a simulation's dataset does not
 //! depend on where its logs went.
 
+use crate::log::writer::{Durability, LogWriter, Tail, line_bytes, tail_of};
 use crate::log::{Header, LogLine};
-use crate::log_writer::{Durability, LogWriter, Tail, line_bytes, tail_of};
 use anyhow::{Result, bail};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -155,10 +155,10 @@ impl LogSink for MemoryLog {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::log_writer::tests::header;
+    use crate::log::writer::tests::header;
 
     fn resume() -> LogLine {
-        LogLine::Resume(crate::log_writer::tests::resume())
+        LogLine::Resume(crate::log::writer::tests::resume())
     }
 
     /// A file log and a memory log given the same lines, then the same damaged bytes, hold the

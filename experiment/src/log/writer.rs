@@ -149,7 +149,7 @@ pub(crate) mod tests {
     use super::*;
     use crate::log::{LOG_FORMAT, SessionLog};
 
-    /// A header and a resume line for log-storage tests (`log_sink` uses them too).
+    /// A header and a resume line for log-storage tests (`log::sink` uses them too).
     pub(crate) fn header() -> Header {
         Header {
             format: LOG_FORMAT.into(),

@@ -4,12 +4,12 @@
 //! What the player needs of a stimulus is its [`StoredVideo`] (size, rate, frame count) and,
 //! on a decoding thread, each frame decoded ([`FrameStore::frame`]). [`FrameDir`] is the
 //! rendered stimulus set on disk as `run` uses it: the manifest's PNG files, read and decoded
-//! exactly as [`crate::frames::load_frame`] does (same bytes, same messages). [`MemoryFrames`]
+//! exactly as [`crate::playback::frames::load_frame`] does (same bytes, same messages). [`MemoryFrames`]
 //! holds decoded frames in memory: tests, and any front end that makes its stimuli itself.
 //! No GUI types, so both can be tested headless. `predict` keeps reading through
-//! [`crate::frames::VideoSource`] (it needs frame files, not a player's view of them).
+//! [`crate::playback::frames::VideoSource`] (it needs frame files, not a player's view of them).
 
-use crate::frames::{RgbFrame, VideoSource, decode_png};
+use crate::playback::frames::{RgbFrame, VideoSource, decode_png};
 use anyhow::{Context, Result, bail};
 use renderer::manifest::Manifest;
 use std::collections::HashMap;
@@ -167,7 +167,7 @@ impl FrameStore for MemoryFrames {
 mod tests {
     use super::*;
     use crate::fixture::{StudySpec, write_study};
-    use crate::frames::load_frame;
+    use crate::playback::frames::load_frame;
 
     /// Frame `k` of a made-up video: every byte different between frames.
     fn frame(k: u8, width: u32, height: u32) -> RgbFrame {

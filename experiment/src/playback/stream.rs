@@ -8,7 +8,7 @@
 //! `(k + 1 - loaded) / rate` seconds. A margin covers a rate that falls during playback (decoding
 //! then shares the CPU with drawing); a frame still late is not drawn: the presentation holds
 //! the last drawn frame and counts the late ones as dropped
-//! ([`crate::presentation::Presentation::tick_ready`]).
+//! ([`crate::playback::presentation::Presentation::tick_ready`]).
 
 use crate::design::{Design, Layout};
 use crate::log::Side;

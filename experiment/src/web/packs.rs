@@ -7,7 +7,7 @@
 //! client finds frame `n` by walking the RIFF headers (`experiment/web/videos.js`). Each frame is
 //! checked after encoding: decoded again, its pixels must equal the PNG's, or nothing is written.
 
-use crate::frames::{RgbFrame, VideoSource, decode_png};
+use crate::playback::frames::{RgbFrame, VideoSource, decode_png};
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

@@ -6,7 +6,7 @@ use super::packs::{Cache, Encoded, Pack};
 use super::wire::{ClientSettings, Keys, PlaybackInfo, Video};
 use crate::design::online::{Text, read_text};
 use crate::design::{Design, Layout};
-use crate::frames::VideoSource;
+use crate::playback::frames::VideoSource;
 use anyhow::{Result, bail};
 use std::collections::BTreeMap;
 use std::path::PathBuf;

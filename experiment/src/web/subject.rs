@@ -7,9 +7,9 @@ use super::error::ApiError;
 use super::study::Study;
 use super::wire::{Ack, Answer, AnswerReply, DisplayFacts, Feedback, Progress, State, TrialView};
 use crate::display;
+use crate::log::writer::Durability;
 use crate::log::{BrowserDisplay, Display, SessionLog, Side};
-use crate::log_writer::Durability;
-use crate::session::{Session, Stage, StartInfo, Timing};
+use crate::session::{Phase, Session, StartInfo, Timing};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -164,7 +164,7 @@ impl Subject {
                 let (d, p) = s.progress();
                 (
                     self.started || s.resumed(),
-                    s.stage() == Stage::Finished || s.is_complete(),
+                    s.phase() == Phase::Finished || s.is_complete(),
                     s.practice_progress().0,
                     d,
                     p,
@@ -309,14 +309,14 @@ impl Subject {
         Ok(self.state(study))
     }
 
-    /// Leave the instructions or a break. A repeat (the stage already left) changes nothing.
+    /// Leave the instructions or a break. A repeat (the phase already left) changes nothing.
     pub fn advance(&mut self, study: &Study, tab: &str, from: &str) -> Result<State, ApiError> {
         self.session(study)?;
         self.check_tab(tab, false)?;
         let session = self.session.as_mut().expect("opened");
-        let here = match (from, session.stage()) {
-            ("instructions", Stage::Instructions) => true,
-            ("break", Stage::Break | Stage::PracticeDone) => true,
+        let here = match (from, session.phase()) {
+            ("instructions", Phase::Instructions) => true,
+            ("break", Phase::Break | Phase::PracticeDone) => true,
             ("instructions" | "break", _) => false,
             _ => {
                 return Err(ApiError::bad_request(format!(
@@ -412,7 +412,7 @@ impl Subject {
         let session = self.session.as_ref().expect("opened before state");
         let (pd, pp) = session.practice_progress();
         let (done, planned) = session.progress();
-        let stage = session.stage();
+        let phase = session.phase();
         let (phase, message) = if self.screened_out.is_some() {
             (
                 "screened_out",
@@ -431,21 +431,21 @@ impl Subject {
         } else if !self.started {
             ("display_check", None)
         } else {
-            match stage {
-                Stage::Instructions => ("instructions", Some(study.design.instructions())),
-                Stage::Practice(_) => ("practice", None),
-                Stage::Trial(_) => ("main", None),
-                Stage::PracticeDone => (
+            match phase {
+                Phase::Instructions => ("instructions", Some(study.design.instructions())),
+                Phase::Practice(_) => ("practice", None),
+                Phase::Trial(_) => ("main", None),
+                Phase::PracticeDone => (
                     "break",
                     Some("Practice is over. The main trials come next.".to_string()),
                 ),
-                Stage::Break => (
+                Phase::Break => (
                     "break",
                     Some(format!(
                         "Take a short break. {done} of {planned} trials done."
                     )),
                 ),
-                Stage::Finished => (
+                Phase::Finished => (
                     "done",
                     Some(study.debriefing.as_ref().map_or_else(
                         || "The session is complete. Thank you!".to_string(),

@@ -1,7 +1,7 @@
 //! Fixtures shared by the session tests (`mod support;` in each): a design and an observer
 //! parsed from text, a log path in a temporary folder, and a simulated session started on it.
 
-use experiment::log_writer::Durability;
+use experiment::log::writer::Durability;
 use experiment::session::{Session, StartInfo};
 use experiment::{Design, Observer};
 use std::path::{Path, PathBuf};

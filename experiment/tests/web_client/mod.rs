@@ -6,8 +6,8 @@
 //! follows the server's: the browser itself never learns what a trial shows.
 #![allow(dead_code)]
 
-use experiment::log_sink::MemoryLog;
-use experiment::session::{Session, Stage, StartInfo, Timing};
+use experiment::log::sink::MemoryLog;
+use experiment::session::{Phase, Session, StartInfo, Timing};
 use experiment::web::wire::{AnswerReply, ErrorBody, State};
 use experiment::{Design, Observer};
 use serde_json::json;
@@ -252,20 +252,20 @@ impl SimBrowser {
         let mut out = Outcome::default();
         let mut st = self.sync(&mut out).await?;
         loop {
-            let shadow_stage = {
+            let shadow_phase = {
                 let mut sh = self.shadow.lock().unwrap();
                 while matches!(
-                    sh.stage(),
-                    Stage::Instructions | Stage::PracticeDone | Stage::Break
+                    sh.phase(),
+                    Phase::Instructions | Phase::PracticeDone | Phase::Break
                 ) {
                     sh.advance();
                 }
-                sh.stage()
+                sh.phase()
             };
             match st.phase.as_str() {
                 "done" => {
                     anyhow::ensure!(
-                        shadow_stage == Stage::Finished,
+                        shadow_phase == Phase::Finished,
                         "{}: server done early",
                         self.subject
                     );

@@ -6,10 +6,10 @@ use crate::app::loader::{LoadState, Loader};
 use crate::app::prefetch::{PLAYBACK_BUDGET, UPLOAD_BUDGET};
 use crate::app::screens;
 use crate::app::video_painter::{self, Screen};
-use crate::layout::VideoLayout;
 use crate::log::Side;
-use crate::presentation::{Presentation, View};
-use crate::session::Stage;
+use crate::playback::layout::VideoLayout;
+use crate::playback::presentation::{Presentation, View};
+use crate::session::Phase;
 use crate::trials::Trial;
 use egui::RichText;
 use std::time::{Duration, Instant};
@@ -19,7 +19,7 @@ const STREAM_REPAINT_S: f64 = 0.010;
 
 /// The trial being shown: loading, then its presentation.
 pub(super) struct TrialView {
-    pub(super) stage: Stage,
+    pub(super) phase: Phase,
     pub(super) trial: Trial,
     pub(super) loader: Option<Loader>,
     pub(super) presentation: Option<Presentation>,
@@ -32,9 +32,9 @@ pub(super) struct TrialView {
 impl SessionApp {
     pub(super) fn trial(&mut self, ui: &mut egui::Ui, now: f64) {
         let ctx = ui.ctx().clone();
-        let stage = self.session.stage();
-        if self.view.as_ref().is_none_or(|v| v.stage != stage) {
-            match self.begin_trial(stage) {
+        let phase = self.session.phase();
+        if self.view.as_ref().is_none_or(|v| v.phase != phase) {
+            match self.begin_trial(phase) {
                 Ok(v) => self.view = Some(v),
                 Err(e) => {
                     self.fatal = Some(format!("{e:#}"));
@@ -110,7 +110,7 @@ impl SessionApp {
 
     /// Upload the current trial's frames; `false` while the trial must wait for them (the
     /// progress screen is up) or failed. The presentation starts once every frame is in, or
-    /// earlier once the rest will load before it is due ([`crate::stream`]).
+    /// earlier once the rest will load before it is due ([`crate::playback::stream`]).
     fn pump_trial(&mut self, ui: &mut egui::Ui) -> bool {
         let ctx = ui.ctx().clone();
         let Some(view) = self.view.as_mut() else {
@@ -164,16 +164,16 @@ impl SessionApp {
     }
 
     /// Set up a trial's view, taking over the prefetch of its videos if there is one.
-    fn begin_trial(&mut self, stage: Stage) -> anyhow::Result<TrialView> {
+    fn begin_trial(&mut self, phase: Phase) -> anyhow::Result<TrialView> {
         let began = Instant::now();
         let trial = self
             .session
             .trial()
-            .ok_or_else(|| anyhow::anyhow!("no trial at stage {stage:?}"))?
+            .ok_or_else(|| anyhow::anyhow!("no trial at phase {phase:?}"))?
             .clone();
         let loader = self.cache.loader_for_trial(self.session.design(), &trial)?;
         Ok(TrialView {
-            stage,
+            phase,
             trial,
             loader: Some(loader),
             presentation: None,
@@ -237,8 +237,8 @@ impl SessionApp {
             ui.label(
                 RichText::new(format!(
                     "Keys: {} for pair 1, {} for pair 2",
-                    crate::keys::describe(&k.pair1),
-                    crate::keys::describe(&k.pair2)
+                    crate::design::keys::describe(&k.pair1),
+                    crate::design::keys::describe(&k.pair2)
                 ))
                 .size(18.0)
                 .color(screens::HINT),
