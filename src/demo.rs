@@ -137,12 +137,12 @@ pub fn run(args: &DemoOptions, progress: DemoProgress) -> Result<DemoOutput> {
     eprintln!("[5/5] analyzing");
     let report = out.join("report");
     let mut analyze =
-        analysis::options::AnalyzeOptions::new(vec![sessions.clone()], report.clone());
+        analysis::analyze::AnalyzeOptions::new(vec![sessions.clone()], report.clone());
     analyze.bootstrap = args.bootstrap;
     // The design the sessions ran, so the trials are checked against its plan (and the
     // analysis does not warn "no --design" about the demo's own step).
     analyze.design = Some(root.join(DESIGN));
-    let analysis_report = analysis::options::run_report(&analyze)?;
+    let analysis_report = analysis::analyze::run_report(&analyze)?;
     // The library no longer prints; tolerated problems (torn last lines) are shown here, as
     // `analyze` shows them.
     for w in &analysis_report.warnings {

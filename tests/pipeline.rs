@@ -354,11 +354,11 @@ fn library_chain_hands_each_part_the_previous_parts_files() {
         .expect("simulation");
     check_logs(&design, &manifest, &logs);
 
-    // What `analysis::options::run_report` does (the binary test below runs it), with 200
+    // What `analysis::analyze::run_report` does (the binary test below runs it), with 200
     // resamples instead of the command's minimum of 1000: the bootstrap is most of this
     // test's CPU time, and the interval's rate is the recovery test's business.
     let out = inputs.path("results/report");
-    let args = analysis::options::AnalyzeOptions::new(vec![sessions.clone()], out.clone());
+    let args = analysis::analyze::AnalyzeOptions::new(vec![sessions.clone()], out.clone());
     let mut settings = args.settings().expect("the command's defaults are valid");
     settings.bootstrap.resamples = LIBRARY_BOOTSTRAP;
     let ds = analysis::data::Dataset::read(&[sessions]).expect("the logs read back");

@@ -102,7 +102,7 @@ pub fn write(design: &Design, files: &[PathBuf], report: &Report, dir: &Path) ->
 
 #[cfg(test)]
 mod tests {
-    use crate::options::{AnalyzeOptions, run_report};
+    use crate::analyze::{AnalyzeOptions, run_report};
     use experiment::{Design, Observer};
     use std::path::Path;
 

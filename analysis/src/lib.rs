@@ -12,7 +12,7 @@ pub mod jnd;
 pub mod multilevel;
 pub mod observer;
 pub mod optimizer;
-pub mod options;
+pub mod analyze;
 pub mod output;
 pub mod plan;
 pub mod predict;

@@ -6,7 +6,7 @@
 use analysis::bootstrap::{BootstrapSettings, Bound, bootstrap};
 use analysis::data::{Curve, Dataset};
 use analysis::jnd::{Threshold, empirical_threshold, model_threshold};
-use analysis::options::AnalyzeOptions;
+use analysis::analyze::AnalyzeOptions;
 use analysis::psychometric::{FitSettings, Model, fit};
 use analysis::report::analyze;
 use analysis::sigmoid::Sigmoid;
@@ -252,7 +252,7 @@ fn a_counts_table_takes_its_guess_rate_from_the_design_task() {
     assert!(args.unchecked(&ds, Some(&design)).is_empty());
     // Without either, a counts table is refused: its task is unknown.
     let bare = AnalyzeOptions::new(vec![table.clone()], dir.path().join("out2"));
-    let e = analysis::options::run_report(&bare)
+    let e = analysis::analyze::run_report(&bare)
         .unwrap_err()
         .to_string();
     assert!(e.contains("--guess") && e.contains("--design"), "{e}");

@@ -3,7 +3,7 @@
 
 mod common;
 
-use analysis::options::{AnalyzeOptions, run_report};
+use analysis::analyze::{AnalyzeOptions, run_report};
 use analysis::psychometric::LapseMode;
 use analysis::sigmoid::Sigmoid;
 use analysis::simulate::StudySpec;

@@ -3,7 +3,7 @@
 //! and one who fails the catch trials; `analyze` names each with its reason, writes
 //! `exclusions.csv`, and fits without them (or with them, `--keep-excluded`).
 
-use analysis::options::{AnalyzeOptions, run_report};
+use analysis::analyze::{AnalyzeOptions, run_report};
 use experiment::Design;
 use experiment::log::SessionLog;
 use experiment::log::writer::Durability;

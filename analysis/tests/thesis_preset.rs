@@ -7,7 +7,7 @@
 mod common;
 
 use analysis::data::{Dataset, Observation};
-use analysis::options::AnalyzeOptions;
+use analysis::analyze::AnalyzeOptions;
 use analysis::report::{Preset, Report, analyze};
 use analysis::simulate::StudySpec;
 use statrs::distribution::{ContinuousCDF, StudentsT};

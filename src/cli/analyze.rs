@@ -1,10 +1,10 @@
 //! `blurlab analyze <sessions dir or files...> --out <report dir>`: the analysis's flags. They
-//! only map onto `analysis::options::AnalyzeOptions`, whose defaults they repeat (a test checks
+//! only map onto `analysis::analyze::AnalyzeOptions`, whose defaults they repeat (a test checks
 //! that they agree).
 
 use super::named::named;
 use analysis::comparisons::Unit;
-use analysis::options::{AnalyzeOptions, ModelKind, run_report};
+use analysis::analyze::{AnalyzeOptions, ModelKind, run_report};
 use analysis::psychometric::LapseMode;
 use analysis::report::Preset;
 use analysis::sigmoid::Sigmoid;
