@@ -2,6 +2,7 @@
 //! (thesis Chapter V).
 
 pub mod adaptive;
+pub mod analyze;
 pub mod bootstrap;
 pub mod comparisons;
 mod continued_fraction;
@@ -12,7 +13,6 @@ pub mod jnd;
 pub mod multilevel;
 pub mod observer;
 pub mod optimizer;
-pub mod analyze;
 pub mod output;
 pub mod plan;
 pub mod predict;

@@ -3,10 +3,10 @@
 //! counts table (the path for data collected elsewhere) takes its guess rate from a design's
 //! task; degenerate m-alternative data are reported as the two-alternative cases are.
 
+use analysis::analyze::AnalyzeOptions;
 use analysis::bootstrap::{BootstrapSettings, Bound, bootstrap};
 use analysis::data::{Curve, Dataset};
 use analysis::jnd::{Threshold, empirical_threshold, model_threshold};
-use analysis::analyze::AnalyzeOptions;
 use analysis::psychometric::{FitSettings, Model, fit};
 use analysis::report::analyze;
 use analysis::sigmoid::Sigmoid;

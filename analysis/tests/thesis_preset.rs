@@ -6,8 +6,8 @@
 
 mod common;
 
-use analysis::data::{Dataset, Observation};
 use analysis::analyze::AnalyzeOptions;
+use analysis::data::{Dataset, Observation};
 use analysis::report::{Preset, Report, analyze};
 use analysis::simulate::StudySpec;
 use statrs::distribution::{ContinuousCDF, StudentsT};

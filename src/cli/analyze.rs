@@ -3,8 +3,8 @@
 //! that they agree).
 
 use super::named::named;
-use analysis::comparisons::Unit;
 use analysis::analyze::{AnalyzeOptions, ModelKind, run_report};
+use analysis::comparisons::Unit;
 use analysis::psychometric::LapseMode;
 use analysis::report::Preset;
 use analysis::sigmoid::Sigmoid;
