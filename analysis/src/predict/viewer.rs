@@ -142,11 +142,14 @@ mod tests {
         );
     }
 
+    /// A change that puts one geometry field out of range.
+    type Spoil = fn(&mut BrowserDisplay);
+
     #[test]
     fn every_geometry_field_out_of_range_is_named_as_the_log_names_it() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("web.jsonl");
-        let cases: [(&str, fn(&mut BrowserDisplay)); 5] = [
+        let cases: [(&str, Spoil); 5] = [
             ("viewing_distance_mm", |b| b.viewing_distance_mm = 1e308),
             ("viewing_distance_mm", |b| b.viewing_distance_mm = 60_000.0),
             ("px_per_mm", |b| b.px_per_mm = 1e-9),
