@@ -64,28 +64,16 @@ pub fn markdown(inp: &Inputs) -> Result<String> {
 /// The thesis's scene JNDs as its Chapter IV states them ("the JND for the plane scene occurs
 /// close to halfway between 27 and 64 samples per pixel, while the JND for the spheres scene
 /// occurs close to 125"), with the study it measured them on.
-const THESIS_SCENES: [(&str, f64, &str); 2] = [
-    ("plane", 45.5, "about 45 spp (halfway between 27 and 64)"),
-    ("spheres", 125.0, "about 125 spp"),
+const THESIS_SCENES: [(&str, &str); 2] = [
+    ("plane", "about 45 spp (halfway between 27 and 64)"),
+    ("spheres", "about 125 spp"),
 ];
 const THESIS_SIZE: (u32, u32) = (768, 210);
-
-/// A number for a scene's JND: the crossing, or the middle of the step it lies in.
-fn jnd_number(t: &analysis::threshold::Threshold) -> Option<f64> {
-    use analysis::threshold::Threshold as T;
-    match t {
-        T::Value { spp } => Some(*spp),
-        T::Between { lower, upper } | T::AtLevel { lower, upper, .. } => {
-            Some(0.5 * f64::from(lower + upper))
-        }
-        _ => None,
-    }
-}
 
 /// The study's scene JNDs beside the thesis's, and, when its stimuli are not the thesis's size,
 /// why they may not agree; `None` unless the study has both thesis scenes.
 pub fn beside_thesis(jnd: &Summary, manifest: &Manifest) -> Option<String> {
-    let ours = THESIS_SCENES.map(|(scene, _, _)| {
+    let ours = THESIS_SCENES.map(|(scene, _)| {
         jnd.rows
             .iter()
             .find(|r| r.grouping == analysis::data::Grouping::Scene && r.label == scene)
@@ -96,12 +84,16 @@ pub fn beside_thesis(jnd: &Summary, manifest: &Manifest) -> Option<String> {
     let first = manifest.stimuli.iter().find(|s| s.scene == "plane")?;
     let (size, frames) = (first.width.max(first.height), first.frames);
     let thesis = THESIS_SCENES
-        .map(|(scene, _, text)| format!("{scene} {text}"))
+        .map(|(scene, text)| format!("{scene} {text}"))
         .join(", ");
-    let order = match (jnd_number(&plane.jnd), jnd_number(&spheres.jnd)) {
+    // Where each JND lies in ln spp (a step's middle; beyond the tested levels, +-inf).
+    let at = |t: &analysis::threshold::Threshold| t.ln_bounds().map(|(a, b)| 0.5 * (a + b));
+    let order = match (at(&plane.jnd), at(&spheres.jnd)) {
         (Some(p), Some(s)) if s > p => "the same order as the thesis's (spheres above plane)",
-        (Some(_), Some(_)) => "**not** the thesis's order (there the spheres need more samples)",
-        _ => "an order that cannot be read (a JND outside the tested levels)",
+        (Some(p), Some(s)) if s < p => {
+            "**not** the thesis's order (there the spheres need more samples)"
+        }
+        _ => "an order that cannot be read (both beyond the tested levels, or undefined)",
     };
     let mut text = format!(
         "The thesis ({}x{0} pixels, {} frames, 12 subjects): {thesis}. This study ({}x{} pixels, \

@@ -146,13 +146,8 @@ fn expected_main(d: &Design, log: &SessionLog) -> Vec<Trial> {
 /// scene, point set, time filter and level. An edited field (a scene no design knows) is named
 /// with its line instead of becoming a group of its own. Ids of another form are not checked.
 fn id_problem(t: &TrialRecord) -> Option<String> {
-    use renderer::condition::{PointSetKind, TimeFilter};
     let id = &t.test_stimulus;
-    let mut parts = id.rsplitn(4, '-');
-    let (spp, filter, points, scene) = (parts.next()?, parts.next()?, parts.next()?, parts.next()?);
-    let spp: u32 = spp.parse().ok().filter(|_| spp.len() >= 4)?;
-    let filter = TimeFilter::by_name(filter).ok()?;
-    let points = PointSetKind::by_name(points).ok()?;
+    let (scene, points, filter, spp) = renderer::ids::parse_stimulus_id(id)?;
     let named = [
         ("scene", scene.to_string(), t.scene.clone()),
         ("point_set", points.to_string(), t.point_set.to_string()),

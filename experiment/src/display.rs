@@ -16,18 +16,16 @@ use std::ops::RangeInclusive;
 /// sits at.
 pub const PIXELS_PER_DEGREE: RangeInclusive<f64> = 1.0..=2000.0;
 
-/// What a browser measures of a subject's display, and the range each fact must lie in (issue
-/// 51): `blurlab serve` refuses facts outside, and `blurlab predict --viewer` a log holding them.
-/// The ranges hold every real setting with room and no nonsense: a device pixel ratio from a
-/// zoomed-out desktop to a phone; device pixels per millimetre from a 0.8 mm-pitch wall display to
-/// a 1,000 dpi phone; eye to screen from a hand-held phone to across a room; a refresh interval
-/// from a 500 Hz gaming monitor to a 10 Hz stall.
-pub const BROWSER_RANGES: [(&str, RangeInclusive<f64>); 4] = [
-    ("device_pixel_ratio", 0.25..=8.0),
-    ("px_per_mm", 1.0..=40.0),
-    ("viewing_distance_mm", 100.0..=3000.0),
-    ("refresh_interval_ms", 2.0..=100.0),
-];
+// What a browser measures of a subject's display, and the range each fact must lie in (issue
+// 51): `blurlab serve` refuses facts outside, and `blurlab predict --viewer` a log holding them.
+// The ranges hold every real setting with room and no nonsense: a device pixel ratio from a
+// zoomed-out desktop to a phone; device pixels per millimetre from a 0.8 mm-pitch wall display to
+// a 1,000 dpi phone; eye to screen from a hand-held phone to across a room; a refresh interval
+// from a 500 Hz gaming monitor to a 10 Hz stall.
+pub const DEVICE_PIXEL_RATIO: RangeInclusive<f64> = 0.25..=8.0;
+pub const PX_PER_MM: RangeInclusive<f64> = 1.0..=40.0;
+pub const VIEWING_DISTANCE_MM: RangeInclusive<f64> = 100.0..=3000.0;
+pub const REFRESH_INTERVAL_MS: RangeInclusive<f64> = 2.0..=100.0;
 
 /// How far the browser's own `pixels_per_degree` may lie from px/mm x 2 d tan(0.5 deg), as a
 /// fraction of the latter: the client computes it from the same two numbers, so only rounding
@@ -40,12 +38,8 @@ pub fn pixels_per_degree(px_per_mm: f64, viewing_distance_mm: f64) -> f64 {
     px_per_mm * 2.0 * viewing_distance_mm * 0.5f64.to_radians().tan()
 }
 
-/// `value` of field `name` inside its range in [`BROWSER_RANGES`] (a name not listed is not
-/// checked); the message names the field and the range.
-pub fn check_browser_fact(name: &str, value: f64) -> Result<(), String> {
-    let Some((_, range)) = BROWSER_RANGES.iter().find(|(n, _)| *n == name) else {
-        return Ok(());
-    };
+/// `value` of field `name` inside `range`; the message names the field and the range.
+pub fn check_range(name: &str, value: f64, range: RangeInclusive<f64>) -> Result<(), String> {
     if value.is_finite() && range.contains(&value) {
         return Ok(());
     }
@@ -57,23 +51,44 @@ pub fn check_browser_fact(name: &str, value: f64) -> Result<(), String> {
     ))
 }
 
-/// A logged or sent `pixels_per_degree` consistent with its px/mm and distance.
-pub fn check_pixels_per_degree(
-    px_per_mm: f64,
-    distance_mm: f64,
-    logged: f64,
-) -> Result<(), String> {
-    let expected = pixels_per_degree(px_per_mm, distance_mm);
-    if logged.is_finite() && (logged - expected).abs() <= PIXELS_PER_DEGREE_TOLERANCE * expected {
-        return Ok(());
+/// The viewing geometry a browser measures, as both the log's `display.browser` and the
+/// server's display facts carry it (field names are theirs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BrowserGeometry {
+    pub device_pixel_ratio: f64,
+    pub px_per_mm: f64,
+    pub viewing_distance_mm: f64,
+    pub pixels_per_degree: f64,
+}
+
+impl BrowserGeometry {
+    /// Each fact in its range, and the pixels per degree the one px/mm and distance give.
+    pub fn check(&self) -> Result<(), String> {
+        check_range(
+            "device_pixel_ratio",
+            self.device_pixel_ratio,
+            DEVICE_PIXEL_RATIO,
+        )?;
+        check_range("px_per_mm", self.px_per_mm, PX_PER_MM)?;
+        check_range(
+            "viewing_distance_mm",
+            self.viewing_distance_mm,
+            VIEWING_DISTANCE_MM,
+        )?;
+        let expected = pixels_per_degree(self.px_per_mm, self.viewing_distance_mm);
+        let logged = self.pixels_per_degree;
+        if logged.is_finite() && (logged - expected).abs() <= PIXELS_PER_DEGREE_TOLERANCE * expected
+        {
+            return Ok(());
+        }
+        Err(format!(
+            "field `pixels_per_degree` is {}, but `px_per_mm` {} at `viewing_distance_mm` {} \
+             gives {expected:.2} (px/mm x 2 d tan(0.5 deg)); expected within 1% of it",
+            renderer::limits::shortest(logged),
+            renderer::limits::shortest(self.px_per_mm),
+            renderer::limits::shortest(self.viewing_distance_mm),
+        ))
     }
-    Err(format!(
-        "field `pixels_per_degree` is {}, but `px_per_mm` {} at `viewing_distance_mm` {} gives \
-         {expected:.2} (px/mm x 2 d tan(0.5 deg)); expected within 1% of it",
-        renderer::limits::shortest(logged),
-        renderer::limits::shortest(px_per_mm),
-        renderer::limits::shortest(distance_mm),
-    ))
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -203,24 +218,39 @@ mod tests {
         }
     }
 
+    /// A change that puts one fact out of range.
+    type Spoil = fn(&mut BrowserGeometry);
+
     #[test]
     fn browser_facts_are_checked_against_their_ranges() {
-        assert!(check_browser_fact("viewing_distance_mm", 600.0).is_ok());
-        for (name, bad) in [
-            ("viewing_distance_mm", 1e308),
-            ("viewing_distance_mm", 0.0),
-            ("px_per_mm", f64::NAN),
-            ("device_pixel_ratio", -1.0),
-            ("refresh_interval_ms", 0.0),
-        ] {
-            let e = check_browser_fact(name, bad).unwrap_err();
-            assert!(e.contains(&format!("`{name}`")), "{e}");
+        let good = BrowserGeometry {
+            device_pixel_ratio: 1.0,
+            px_per_mm: 3.78,
+            viewing_distance_mm: 600.0,
+            pixels_per_degree: pixels_per_degree(3.78, 600.0),
+        };
+        good.check().unwrap();
+        let near = BrowserGeometry {
+            pixels_per_degree: good.pixels_per_degree * 1.005,
+            ..good
+        };
+        near.check().unwrap();
+        let cases: [(&str, Spoil); 5] = [
+            ("viewing_distance_mm", |g| g.viewing_distance_mm = 1e308),
+            ("viewing_distance_mm", |g| g.viewing_distance_mm = 0.0),
+            ("px_per_mm", |g| g.px_per_mm = f64::NAN),
+            ("device_pixel_ratio", |g| g.device_pixel_ratio = -1.0),
+            ("pixels_per_degree", |g| g.pixels_per_degree *= 2.0),
+        ];
+        for (name, spoil) in cases {
+            let mut g = good;
+            spoil(&mut g);
+            let e = g.check().unwrap_err();
+            assert!(e.contains(&format!("`{name}`")), "{name}: {e}");
         }
-        let ppd = pixels_per_degree(3.78, 600.0);
-        assert!(check_pixels_per_degree(3.78, 600.0, ppd * 1.005).is_ok());
-        let e = check_pixels_per_degree(3.78, 600.0, ppd * 2.0).unwrap_err();
+        let e = check_range("refresh_interval_ms", 0.0, REFRESH_INTERVAL_MS).unwrap_err();
         assert!(
-            e.contains("`pixels_per_degree`") && e.contains("`px_per_mm`"),
+            e.contains("`refresh_interval_ms`") && e.contains("2 to 100"),
             "{e}"
         );
     }

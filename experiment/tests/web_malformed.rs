@@ -74,6 +74,12 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
         json!({"tab": "A", "session": 1, "practice": practice, "trial": trial, "response": 1,
                "rt_ms": 500.0})
     };
+    // The current trial's answer with one field set to `value` (a body for a bad case).
+    let answer_with = |field: &str, value: Value| {
+        let mut a = answer(1, true);
+        a[field] = value;
+        Some(a.to_string())
+    };
     // The first answer is stored; the replay is acknowledged without a second line.
     let r = post(&http, &api("answer"), answer(0, true)).await.unwrap();
     assert_eq!(r.status, 200, "{}", r.body);
@@ -344,11 +350,7 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             what: "an answer with a field the API does not have",
             method: "POST",
             path: p("answer"),
-            body: Some(
-                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
-                       "rt_ms": 500.0, "level": 8})
-                .to_string(),
-            ),
+            body: answer_with("level", json!(8)),
             status: 400,
             message: "unknown field `level`",
         },
@@ -356,11 +358,7 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             what: "frame times going back",
             method: "POST",
             path: p("answer"),
-            body: Some(
-                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
-                       "rt_ms": 500.0, "frame_times_ms": [20.0, 10.0]})
-                .to_string(),
-            ),
+            body: answer_with("frame_times_ms", json!([20.0, 10.0])),
             status: 400,
             message: "`frame_times_ms`",
         },
@@ -368,11 +366,7 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             what: "more dropped frames than the trial shows",
             method: "POST",
             path: p("answer"),
-            body: Some(
-                json!({"tab": "A", "session": 1, "practice": true, "trial": 1, "response": 1,
-                       "rt_ms": 500.0, "dropped_frames": 1_000_000})
-                .to_string(),
-            ),
+            body: answer_with("dropped_frames", json!(1_000_000)),
             status: 400,
             message: "`dropped_frames`",
         },

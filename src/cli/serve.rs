@@ -52,7 +52,7 @@ pub struct ServeArgs {
     pub export_videos: Option<PathBuf>,
     /// Browsers fetch videos from this URL (a static server holding an --export-videos folder)
     /// instead of from this server; answers still come here.
-    #[arg(long, value_name = "URL")]
+    #[arg(long, value_name = "URL", value_parser = parse_base_url)]
     pub video_base_url: Option<String>,
     /// Frames decoded ahead of the one shown, per video playing.
     #[arg(long, default_value_t = ClientSettings::default().lookahead_frames)]
@@ -132,12 +132,6 @@ fn config(args: &ServeArgs) -> anyhow::Result<experiment::web::Config> {
             "{name} is {x}; expected a number of GB above 0"
         );
     }
-    if let Some(url) = &args.video_base_url {
-        anyhow::ensure!(
-            url.starts_with("https://") || url.starts_with("http://"),
-            "--video-base-url {url:?}: expected an http:// or https:// URL"
-        );
-    }
     Ok(experiment::web::Config {
         design: args.design.clone(),
         out: args.out.clone(),
@@ -173,28 +167,21 @@ fn parse_subject_count(s: &str) -> Result<u32, String> {
     u32::try_from(n).map_err(|_| format!("`{s}`: too large"))
 }
 
-/// `--base-url`: the address subjects' links start with, so an absolute http(s) URL with a
-/// host, and nothing a link appends to could break (spaces, a query, a fragment).
+/// `--base-url` and `--video-base-url`: addresses links and fetches start with, so an absolute
+/// http(s) URL with a host (`is_plain_url`, the rule for the platform's URLs) without a query
+/// or fragment, which what is appended would break.
 fn parse_base_url(s: &str) -> Result<String, String> {
-    let rest = s
-        .strip_prefix("https://")
-        .or_else(|| s.strip_prefix("http://"));
-    let host = rest.map(|r| r.split('/').next().unwrap_or(""));
-    let bad = if host.is_none_or(str::is_empty) {
-        Some(
-            "expected an absolute http:// or https:// URL with a host, e.g. https://study.example.org",
-        )
-    } else if s.chars().any(|c| c.is_whitespace() || c.is_control()) {
-        Some("it holds white space; expected a URL")
-    } else if s.contains(['?', '#']) {
-        Some("it has a query or fragment; expected the server's address alone (links add /s/TOKEN)")
-    } else {
-        None
-    };
-    match bad {
-        Some(why) => Err(format!("`{s}`: {why}")),
-        None => Ok(s.to_string()),
+    use experiment::design::online::{PLAIN_URL, is_plain_url};
+    if !is_plain_url(s) {
+        return Err(format!("{s:?}: expected {PLAIN_URL}"));
     }
+    if s.contains(['?', '#']) {
+        return Err(format!(
+            "{s:?} has a query or fragment; expected the server's address alone (links add \
+             /s/TOKEN)"
+        ));
+    }
+    Ok(s.to_string())
 }
 
 fn print_budget(b: &Budget) {

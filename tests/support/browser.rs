@@ -121,18 +121,23 @@ pub struct Browser {
 }
 
 impl Browser {
+    /// A small browser (1000 x 700 CSS pixels), sharing the cores with the others.
     pub async fn start(scale: f64) -> Browser {
-        Self::start_sized(scale, [1000, 700]).await
+        let shared = super::web_thesis::ALONE.read().await;
+        Self::launch(scale, [1000, 700], Some(shared)).await
     }
 
-    /// A browser whose window is `size` CSS pixels.
-    pub async fn start_sized(scale: f64, size: [u32; 2]) -> Browser {
-        // A small browser shares the cores; the thesis-sized one plays alone (it holds the
-        // write lock itself).
-        let shared = match size {
-            [1000, 700] => Some(super::web_thesis::ALONE.read().await),
-            _ => None,
-        };
+    /// A browser whose window is `size` CSS pixels, for a test that already holds
+    /// `web_thesis::ALONE` for writing (it plays alone).
+    pub async fn start_alone(scale: f64, size: [u32; 2]) -> Browser {
+        Self::launch(scale, size, None).await
+    }
+
+    async fn launch(
+        scale: f64,
+        size: [u32; 2],
+        shared: Option<tokio::sync::RwLockReadGuard<'static, ()>>,
+    ) -> Browser {
         let port = std::net::TcpListener::bind("127.0.0.1:0")
             .and_then(|l| l.local_addr())
             .expect("a free port")

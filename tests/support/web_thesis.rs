@@ -67,7 +67,7 @@ async fn a_thesis_sized_design_plays_exact_in_bounded_memory_without_dropped_fra
     let t0 = Instant::now();
     let served = serve(&study.design_path, &dir.path().join("out"), 1).await;
     eprintln!("videos encoded in {:.1} s", t0.elapsed().as_secs_f64());
-    let b = Browser::start_sized(1.0, [1700, 900]).await;
+    let b = Browser::start_alone(1.0, [1700, 900]).await;
     let sampler = PssSampler::start(b.driver.id());
     b.client.goto(&served.links[0]).await.unwrap();
     let timeout = Duration::from_secs(180);
@@ -98,7 +98,7 @@ async fn a_thesis_sized_design_plays_exact_in_bounded_memory_without_dropped_fra
     let sessions = served.sessions.clone();
     served.shutdown().await;
 
-    let lines = log_lines(&sessions);
+    let lines = super::log_lines(&sessions);
     let trials: Vec<_> = lines.iter().filter(|l| l["kind"] == "trial").collect();
     assert_eq!(trials.len(), 3);
     let waits: Vec<f64> = trials
@@ -175,20 +175,6 @@ fn png_bytes(dir: &Path) -> u64 {
         }
     }
     total
-}
-
-/// The log's lines as JSON (one subject's log in `sessions`).
-fn log_lines(sessions: &Path) -> Vec<serde_json::Value> {
-    let log = std::fs::read_dir(sessions)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .find(|p| p.extension().is_some_and(|e| e == "jsonl"))
-        .expect("a session log");
-    std::fs::read_to_string(log)
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect()
 }
 
 const NGINX: &str = "/usr/sbin/nginx";
@@ -333,7 +319,7 @@ async fn videos_served_by_nginx_play_exact_while_answers_go_to_the_server() {
     names.sort();
     names.dedup();
     assert_eq!(names.len(), gets.len(), "a video fetched twice: {log}");
-    let trials = log_lines(&sessions)
+    let trials = super::log_lines(&sessions)
         .into_iter()
         .filter(|l| l["kind"] == "trial")
         .count();

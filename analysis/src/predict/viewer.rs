@@ -35,20 +35,19 @@ pub fn display_for_session(log: &Path, base: &DisplaySpec) -> Result<DisplaySpec
 /// The log's own geometry fields in range, named as the log names them, before anything is
 /// derived from them (a distance of 1e308 mm once ran the observer for minutes).
 fn check_geometry(b: &BrowserDisplay) -> Result<(), String> {
-    for (name, value) in [
-        ("px_per_mm", b.px_per_mm),
-        ("viewing_distance_mm", b.viewing_distance_mm),
-        ("device_pixel_ratio", b.device_pixel_ratio),
-    ] {
-        display::check_browser_fact(name, value)?;
-    }
     if b.window_px.contains(&0) {
         return Err(format!(
             "field `window_px` is {:?}; expected [width, height] in device pixels",
             b.window_px
         ));
     }
-    display::check_pixels_per_degree(b.px_per_mm, b.viewing_distance_mm, b.pixels_per_degree)
+    display::BrowserGeometry {
+        device_pixel_ratio: b.device_pixel_ratio,
+        px_per_mm: b.px_per_mm,
+        viewing_distance_mm: b.viewing_distance_mm,
+        pixels_per_degree: b.pixels_per_degree,
+    }
+    .check()
 }
 
 /// `base` with the browser's screen pitch and viewing distance.
@@ -76,7 +75,7 @@ mod tests {
             px_per_mm,
             viewing_distance_mm: distance_mm,
             // What the client computes: px/mm x 2 d tan(0.5 deg).
-            pixels_per_degree: px_per_mm * 2.0 * distance_mm * 0.5f64.to_radians().tan(),
+            pixels_per_degree: display::pixels_per_degree(px_per_mm, distance_mm),
             user_agent: "test".into(),
             fullscreen: true,
         }
@@ -119,12 +118,13 @@ mod tests {
         assert!(e.contains("`gui`"), "{e}");
     }
 
-    #[test]
-    fn nonsense_geometry_is_refused() {
+    /// A change that puts one geometry field out of range.
+    type Spoil = fn(&mut BrowserDisplay);
+
+    /// The error `display_for_session` gives for a web log whose header holds `b`.
+    fn refusal(b: &BrowserDisplay) -> String {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("web.jsonl");
-        let mut b = browser(3.0, 333.0);
-        b.viewing_distance_mm = 0.0;
         let header = serde_json::json!({
             "kind": "header", "format": "blurlab-session/1", "subject": "s1", "session": 1,
             "design": "d", "design_hash": "h", "seed": 1, "app_version": "blurlab test",
@@ -133,23 +133,15 @@ mod tests {
                         "refresh_interval_ms": 16.7, "browser": b},
         });
         std::fs::write(&path, format!("{header}\n")).unwrap();
-        let e = display_for_session(&path, &DisplaySpec::default())
+        display_for_session(&path, &DisplaySpec::default())
             .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("web.jsonl") && e.contains("`viewing_distance_mm`"),
-            "{e}"
-        );
+            .to_string()
     }
-
-    /// A change that puts one geometry field out of range.
-    type Spoil = fn(&mut BrowserDisplay);
 
     #[test]
     fn every_geometry_field_out_of_range_is_named_as_the_log_names_it() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("web.jsonl");
-        let cases: [(&str, Spoil); 5] = [
+        let cases: [(&str, Spoil); 6] = [
+            ("viewing_distance_mm", |b| b.viewing_distance_mm = 0.0),
             ("viewing_distance_mm", |b| b.viewing_distance_mm = 1e308),
             ("viewing_distance_mm", |b| b.viewing_distance_mm = 60_000.0),
             ("px_per_mm", |b| b.px_per_mm = 1e-9),
@@ -159,18 +151,11 @@ mod tests {
         for (field, spoil) in cases {
             let mut b = browser(3.0, 333.0);
             spoil(&mut b);
-            let header = serde_json::json!({
-                "kind": "header", "format": "blurlab-session/1", "subject": "s1", "session": 1,
-                "design": "d", "design_hash": "h", "seed": 1, "app_version": "blurlab test",
-                "mode": "web", "started_unix": 0.0, "trials_planned": 4,
-                "display": {"width": 1000, "height": 700, "pixels_per_point": 1.0,
-                            "refresh_interval_ms": 16.7, "browser": b},
-            });
-            std::fs::write(&path, format!("{header}\n")).unwrap();
-            let e = display_for_session(&path, &DisplaySpec::default())
-                .unwrap_err()
-                .to_string();
-            assert!(e.contains(&format!("`{field}`")), "{field}: {e}");
+            let e = refusal(&b);
+            assert!(
+                e.contains("web.jsonl") && e.contains(&format!("`{field}`")),
+                "{field}: {e}"
+            );
             assert!(!e.contains("diagonal_inches"), "{e}");
         }
     }

@@ -208,22 +208,27 @@ fn check_code(field: &str, code: &str) -> Result<()> {
 
 /// An http(s) URL with no spaces, quotes or angle brackets (it becomes a redirect).
 pub fn check_url(field: &str, url: &str) -> Result<()> {
-    let scheme = url.starts_with("https://") || url.starts_with("http://");
-    let host = url.split("://").nth(1).unwrap_or("");
-    if !scheme
-        || host.is_empty()
-        || host.starts_with('/')
-        || url.len() > 2000
-        || url.chars().any(|c| {
-            c.is_whitespace() || c.is_control() || matches!(c, '"' | '\'' | '<' | '>' | '\\')
-        })
-    {
-        bail!(
-            "field `{field}` is {url:?}; expected an http:// or https:// URL of at most 2000 \
-             characters without spaces, quotes, `<`, `>` or `\\`"
-        );
+    if !is_plain_url(url) {
+        bail!("field `{field}` is {url:?}; expected {PLAIN_URL}");
     }
     Ok(())
+}
+
+/// What [`is_plain_url`] accepts, for messages.
+pub const PLAIN_URL: &str = "an http:// or https:// URL with a host, of at most 2000 characters \
+                             without spaces, quotes, `<`, `>` or `\\`";
+
+/// An absolute http(s) URL with a host that is safe to put in a header or a redirect.
+pub fn is_plain_url(url: &str) -> bool {
+    let scheme = url.starts_with("https://") || url.starts_with("http://");
+    let host = url.split("://").nth(1).unwrap_or("");
+    scheme
+        && !host.is_empty()
+        && !host.starts_with('/')
+        && url.len() <= 2000
+        && !url.chars().any(|c| {
+            c.is_whitespace() || c.is_control() || matches!(c, '"' | '\'' | '<' | '>' | '\\')
+        })
 }
 
 impl Online {

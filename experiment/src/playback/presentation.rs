@@ -97,6 +97,18 @@ impl Presentation {
         self.frames as u64 * self.loops as u64
     }
 
+    /// Video frames the whole trial shows: each playback step shows its frames x loops (both
+    /// pairs at once in a grid, one pair after the other in sequence). No more can be drawn,
+    /// dropped or late.
+    pub fn frames_shown(&self) -> u64 {
+        let plays = self
+            .steps
+            .iter()
+            .filter(|s| matches!(s, Step::Play(_)))
+            .count();
+        self.total_frames() * plays as u64
+    }
+
     /// What to show at `now` (seconds on the session's clock), recording onsets, frame times
     /// and drops.
     pub fn tick(&mut self, now: f64) -> View {
@@ -289,6 +301,7 @@ mod tests {
         let t = p.timing(0.0, 0, 0.0);
         assert_eq!(t.dropped_frames, 0);
         assert_eq!(t.frame_times_ms.len(), 12);
+        assert_eq!(p.frames_shown(), 12);
         assert_eq!(t.onsets_ms.len(), 2);
         // Fixation 0.5 s, pair 6/32 s, gap 1 s: pair 2 starts >= 1.6875 s after pair 1 start.
         assert!(t.onsets_ms[1] - t.onsets_ms[0] >= 1000.0 * (6.0 / 32.0 + 1.0));
@@ -325,6 +338,7 @@ mod tests {
             })
             .collect();
         assert_eq!(both, vec![0, 1, 2, 0, 1, 2]);
+        assert_eq!(p.frames_shown(), 6);
         assert_eq!(p.timing(0.0, 0, 0.0).onsets_ms.len(), 1);
         assert!(!views.contains(&View::Gap));
     }

@@ -124,6 +124,31 @@ async fn with_subject<T: Serialize + Send + 'static>(
     Ok(Json(out).into_response())
 }
 
+/// A POST on a subject's link: its body parsed as `T`, then `f` on the subject (as
+/// [`with_subject`]).
+async fn post_to_subject<T, R>(
+    app: Arc<App>,
+    peer: SocketAddr,
+    token: &str,
+    body: Result<Bytes, BytesRejection>,
+    f: impl FnOnce(&App, &mut Subject, T) -> Result<R, ApiError> + Send + 'static,
+) -> Result<Response, ApiError>
+where
+    T: DeserializeOwned + Send + 'static,
+    R: Serialize + Send + 'static,
+{
+    let entry = lookup(&app, token, peer)?;
+    let request: T = parse(body)?;
+    with_subject(app, entry, move |app, s| f(app, s, request)).await
+}
+
+/// `reply`, once what the subject's answer changed of their platform record (consent, screen
+/// out) is in `tokens.json`.
+fn persisted<R>(app: &App, s: &Subject, reply: R) -> Result<R, ApiError> {
+    participant::persist(app, s)?;
+    Ok(reply)
+}
+
 async fn page(
     State(app): Shared,
     ConnectInfo(peer): Peer,
@@ -150,29 +175,23 @@ async fn join(
     Path(token): Path<String>,
     q: Result<Query<HashMap<String, String>>, axum::extract::rejection::QueryRejection>,
 ) -> Result<Response, ApiError> {
-    // As for subject links: only an unknown join link counts against the address, so guesses
-    // behind a shared proxy address do not turn the real participants away.
-    let known = tokens::looks_like_token(&token)
-        && app
-            .tokens
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .open
-            .as_ref()
-            .is_some_and(|o| tokens::same_secret(&o.token, &token));
-    if !known {
-        let ip = peer.ip().to_string();
-        return Err(match app.per_address.take(&ip) {
-            true => ApiError::not_found(UNKNOWN_LINK),
-            false => too_many(),
-        });
-    }
     let Query(query) = q.map_err(|e| ApiError::bad_request(format!("the link's query: {e}")))?;
     let app2 = app.clone();
     let made = tokio::task::spawn_blocking(move || participant::join(&app2, &token, &query))
         .await
         .map_err(|e| ApiError::internal(&anyhow::anyhow!("{e}")))?;
-    made.map(|t| Redirect::to(&format!("/s/{t}")).into_response())
+    match made {
+        Ok(t) => Ok(Redirect::to(&format!("/s/{t}")).into_response()),
+        // As for subject links (`lookup`): only an unknown join link counts against the
+        // address, so guesses behind a shared proxy address do not turn participants away.
+        Err(e)
+            if e.status == StatusCode::NOT_FOUND
+                && !app.per_address.take(&peer.ip().to_string()) =>
+        {
+            Err(too_many())
+        }
+        Err(e) => Err(e),
+    }
 }
 
 async fn consent(
@@ -181,12 +200,9 @@ async fn consent(
     Path(token): Path<String>,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let entry = lookup(&app, &token, peer)?;
-    let c: ConsentAnswer = parse(body)?;
-    with_subject(app, entry, move |app, s| {
+    post_to_subject(app, peer, &token, body, |app, s, c: ConsentAnswer| {
         let state = s.consent(&app.study, &c.tab, c.accept)?;
-        participant::persist(app, s)?;
-        Ok(state)
+        persisted(app, s, state)
     })
     .await
 }
@@ -197,12 +213,9 @@ async fn screen_out(
     Path(token): Path<String>,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let entry = lookup(&app, &token, peer)?;
-    let r: ScreenOut = parse(body)?;
-    with_subject(app, entry, move |app, s| {
+    post_to_subject(app, peer, &token, body, |app, s, r: ScreenOut| {
         let state = s.screen_out(&app.study, &r.tab, &r.reason)?;
-        participant::persist(app, s)?;
-        Ok(state)
+        persisted(app, s, state)
     })
     .await
 }
@@ -213,9 +226,10 @@ async fn claim(
     Path(token): Path<String>,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let entry = lookup(&app, &token, peer)?;
-    let c: Claim = parse(body)?;
-    with_subject(app, entry, move |app, s| s.claim(&app.study, &c.tab)).await
+    post_to_subject(app, peer, &token, body, |app, s, c: Claim| {
+        s.claim(&app.study, &c.tab)
+    })
+    .await
 }
 
 #[derive(serde::Deserialize)]
@@ -243,12 +257,9 @@ async fn display(
     Path(token): Path<String>,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let entry = lookup(&app, &token, peer)?;
-    let d: DisplayFacts = parse(body)?;
-    with_subject(app, entry, move |app, s| {
+    post_to_subject(app, peer, &token, body, |app, s, d: DisplayFacts| {
         let state = s.display(&app.study, &d)?;
-        participant::persist(app, s)?;
-        Ok(state)
+        persisted(app, s, state)
     })
     .await
 }
@@ -259,9 +270,7 @@ async fn advance(
     Path(token): Path<String>,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let entry = lookup(&app, &token, peer)?;
-    let a: Advance = parse(body)?;
-    with_subject(app, entry, move |app, s| {
+    post_to_subject(app, peer, &token, body, |app, s, a: Advance| {
         s.advance(&app.study, &a.tab, &a.from)
     })
     .await
@@ -273,9 +282,10 @@ async fn answer(
     Path(token): Path<String>,
     body: Result<Bytes, BytesRejection>,
 ) -> Result<Response, ApiError> {
-    let entry = lookup(&app, &token, peer)?;
-    let a: super::wire::Answer = parse(body)?;
-    with_subject(app, entry, move |app, s| s.answer(&app.study, &a)).await
+    post_to_subject(app, peer, &token, body, |app, s, a: super::wire::Answer| {
+        s.answer(&app.study, &a)
+    })
+    .await
 }
 
 /// The encoded video behind `id` (a frame pack, streamed from the stimulus set's cache). The

@@ -7,6 +7,7 @@ use super::wire::{ClientSettings, Keys, PlaybackInfo, Video};
 use crate::design::online::{Text, read_text};
 use crate::design::{Design, Layout};
 use crate::playback::frames::VideoSource;
+use crate::playback::presentation::Presentation;
 use anyhow::{Result, bail};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -27,6 +28,9 @@ pub struct Study {
     pub playback: PlaybackInfo,
     pub keys: Keys,
     pub min_window_px: [u32; 2],
+    /// Video frames a trial shows (`Presentation::frames_shown`): an answer cannot time, drop
+    /// or be late by more.
+    pub frames_shown: u64,
     pub client: ClientSettings,
     /// What loading encoded (a first start encodes every video; later ones reuse them).
     pub encoded: Encoded,
@@ -81,7 +85,9 @@ impl Study {
             Layout::Sequential => [2 * video.width + spacing, video.height],
             Layout::Grid => [2 * video.width + spacing, 2 * video.height + spacing],
         };
+        let frames_shown = Presentation::new(&design, video.frames, video.fps).frames_shown();
         Ok(Self {
+            frames_shown,
             playback: PlaybackInfo {
                 layout: match design.file.layout {
                     Layout::Sequential => "sequential",
@@ -112,19 +118,6 @@ impl Study {
     /// The encoded video of stimulus `id` (an id from the design's trial list).
     pub fn video_of(&self, id: &str) -> Option<&Served> {
         self.videos.get(id)
-    }
-
-    /// How many video frames a trial shows: each video's frames, looped, once per pair shown
-    /// one after the other (sequential) or for both pairs at once (simultaneous).
-    pub fn frames_shown(&self) -> u32 {
-        let plays = match self.design.file.layout {
-            Layout::Sequential => 2,
-            Layout::Grid => 1,
-        };
-        self.video
-            .frames
-            .saturating_mul(self.playback.loops)
-            .saturating_mul(plays)
     }
 
     /// Every video the study can serve, by stimulus id.

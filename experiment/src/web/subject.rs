@@ -379,7 +379,7 @@ impl Subject {
                 a.trial
             )));
         }
-        check_answer(a, study.frames_shown())?;
+        check_answer(a, study.frames_shown)?;
         let timing = Timing {
             rt_ms: a.rt_ms,
             onsets_ms: a.onsets_ms.clone(),
@@ -543,16 +543,21 @@ fn finite_nonnegative(name: &str, x: f64) -> Result<(), ApiError> {
 }
 
 fn check_display(f: &DisplayFacts, need: [u32; 2]) -> Result<(), ApiError> {
-    for (name, x) in [
-        ("device_pixel_ratio", f.device_pixel_ratio),
-        ("px_per_mm", f.px_per_mm),
-        ("viewing_distance_mm", f.viewing_distance_mm),
-        ("refresh_interval_ms", f.refresh_interval_ms),
-    ] {
-        display::check_browser_fact(name, x).map_err(ApiError::bad_request)?;
+    display::BrowserGeometry {
+        device_pixel_ratio: f.device_pixel_ratio,
+        px_per_mm: f.px_per_mm,
+        viewing_distance_mm: f.viewing_distance_mm,
+        pixels_per_degree: f.pixels_per_degree,
     }
-    display::check_pixels_per_degree(f.px_per_mm, f.viewing_distance_mm, f.pixels_per_degree)
-        .map_err(ApiError::bad_request)?;
+    .check()
+    .and_then(|()| {
+        display::check_range(
+            "refresh_interval_ms",
+            f.refresh_interval_ms,
+            display::REFRESH_INTERVAL_MS,
+        )
+    })
+    .map_err(ApiError::bad_request)?;
     for (name, [w, h]) in [("screen_px", f.screen_px), ("window_px", f.window_px)] {
         if w == 0 || h == 0 || w > MAX_SCREEN_PX || h > MAX_SCREEN_PX {
             return Err(ApiError::bad_request(format!(
@@ -587,9 +592,9 @@ const MAX_SCREEN_PX: u32 = 16_384;
 /// screen open; a larger number is not a time.)
 const MAX_RT_MS: f64 = 86_400_000.0;
 
-/// An answer's fields in range. `shown` is how many video frames the trial shows (frames x
-/// loops x pairs shown one after the other): no more can be timed, dropped or late.
-fn check_answer(a: &Answer, shown: u32) -> Result<(), ApiError> {
+/// An answer's fields in range. `shown` is how many video frames the trial shows
+/// ([`Study::frames_shown`]): no more can be timed, dropped or late.
+fn check_answer(a: &Answer, shown: u64) -> Result<(), ApiError> {
     if a.response != 1 && a.response != 2 {
         return Err(ApiError::bad_request(format!(
             "field `response` is {}; expected 1 or 2",
@@ -622,11 +627,10 @@ fn check_answer(a: &Answer, shown: u32) -> Result<(), ApiError> {
             )));
         }
     }
-    let timed = u32::try_from(a.frame_times_ms.len()).unwrap_or(u32::MAX);
     for (name, n) in [
-        ("frame_times_ms", timed),
-        ("dropped_frames", a.dropped_frames),
-        ("late_frames", a.late_frames),
+        ("frame_times_ms", a.frame_times_ms.len() as u64),
+        ("dropped_frames", u64::from(a.dropped_frames)),
+        ("late_frames", u64::from(a.late_frames)),
     ] {
         if n > shown {
             return Err(ApiError::bad_request(format!(
