@@ -353,29 +353,42 @@ fn stimulus_frames_reach_the_screen_pixel_for_pixel_at_scale_1_and_1_5() {
         assert!(expected.trial.matches(t));
         assert_eq!(t.response, 1);
         assert_eq!(t.correct, expected.trial.diff_pair == 1);
-        assert_eq!(t.onsets_ms.len(), 2);
+        assert_eq!(t.timing.onsets_ms.len(), 2);
         // Every frame of both pairs was either drawn or counted as dropped.
-        assert_eq!(t.frame_times_ms.len() as u32 + t.dropped_frames, 2 * 20 * 2);
-        assert!(t.preload_ms > 0.0, "preload {} ms", t.preload_ms);
+        assert_eq!(
+            t.timing.frame_times_ms.len() as u32 + t.timing.dropped_frames,
+            2 * 20 * 2
+        );
+        assert!(
+            t.timing.preload_ms > 0.0,
+            "preload {} ms",
+            t.timing.preload_ms
+        );
         // The test presses "1" every 300 ms without seeing the screen, so a press can land in
         // the frame that begins the response step: its response time is then exactly 0 (a CI
         // run saw it once). Negative or non-finite would be a bug.
-        assert!(t.rt_ms >= 0.0 && t.rt_ms.is_finite(), "rt {} ms", t.rt_ms);
-        assert!(t.frame_times_ms.windows(2).all(|w| w[1] > w[0]));
+        assert!(
+            t.timing.rt_ms >= 0.0 && t.timing.rt_ms.is_finite(),
+            "rt {} ms",
+            t.timing.rt_ms
+        );
+        assert!(t.timing.frame_times_ms.windows(2).all(|w| w[1] > w[0]));
     }
 }
 
 /// Interval statistics of the drawn frames within each pair, milliseconds.
 fn pacing(t: &experiment::log::TrialRecord) -> (f64, f64, f64) {
     let mut d: Vec<f64> = Vec::new();
-    let split = t.onsets_ms[1];
+    let split = t.timing.onsets_ms[1];
     for part in [
-        t.frame_times_ms
+        t.timing
+            .frame_times_ms
             .iter()
             .filter(|&&x| x < split)
             .copied()
             .collect::<Vec<_>>(),
-        t.frame_times_ms
+        t.timing
+            .frame_times_ms
             .iter()
             .filter(|&&x| x >= split)
             .copied()
@@ -539,10 +552,10 @@ fn thesis_size_trial_under_xvfb() {
     // CPU spent during playback (first drawn frame to last), per drawn frame: what a quiet
     // core would need to keep up, whatever else the machine was doing.
     let origin = log.header.started_unix;
-    let from = origin + t.onsets_ms[0] / 1000.0;
-    let to = origin + t.frame_times_ms.last().unwrap() / 1000.0;
+    let from = origin + t.timing.onsets_ms[0] / 1000.0;
+    let to = origin + t.timing.frame_times_ms.last().unwrap() / 1000.0;
     let (app_cpu, xvfb_cpu) = cpu_between(&samples, from, to);
-    let drawn = t.frame_times_ms.len() as f64;
+    let drawn = t.timing.frame_times_ms.len() as f64;
     eprintln!(
         "playback {:.1} s: app CPU {:.2} s ({:.1} ms per drawn frame), Xvfb CPU {:.2} s ({:.1} ms \
          per drawn frame); load average {}",
@@ -561,11 +574,11 @@ fn thesis_size_trial_under_xvfb() {
          frames drawn {}, dropped {}, frame interval median {:.2} ms, p95 {:.2} ms, max {:.2} ms",
         screen.0,
         screen.1,
-        t.preload_ms,
+        t.timing.preload_ms,
         peak,
         log.header.display.as_ref().unwrap().refresh_interval_ms,
-        t.frame_times_ms.len(),
-        t.dropped_frames,
+        t.timing.frame_times_ms.len(),
+        t.timing.dropped_frames,
         median,
         p95,
         max
@@ -619,12 +632,12 @@ fn thesis_size_adaptive_next_trial_under_xvfb() {
          glow/llvmpipe, no vsync): preload {:.0} ms (first trial, both videos: {:.0} ms), peak \
          RSS {:.0} MiB, frames drawn {}, dropped {} (first trial {}), frame interval median \
          {:.2} ms, p95 {:.2} ms, max {:.2} ms; load average {}",
-        t.preload_ms,
-        first.preload_ms,
+        t.timing.preload_ms,
+        first.timing.preload_ms,
         peak,
-        t.frame_times_ms.len(),
-        t.dropped_frames,
-        first.dropped_frames,
+        t.timing.frame_times_ms.len(),
+        t.timing.dropped_frames,
+        first.timing.dropped_frames,
         median,
         p95,
         max,

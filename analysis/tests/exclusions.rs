@@ -6,8 +6,9 @@
 use analysis::analyze::{AnalyzeOptions, run_report};
 use experiment::Design;
 use experiment::log::SessionLog;
+use experiment::log::Timing;
 use experiment::log::writer::Durability;
-use experiment::session::{Session, StartInfo, Timing};
+use experiment::session::{Session, StartInfo};
 use renderer::hash::hash;
 use std::path::Path;
 

@@ -68,14 +68,15 @@ pub fn facts(logs: &[SessionLog]) -> Vec<SubjectFacts> {
         }
         for t in log.main_trials() {
             f.main_done += 1;
-            f.rts.push(t.rt_ms);
+            f.rts.push(t.timing.rt_ms);
             if t.catch {
                 f.catch_trials += 1;
                 f.catch_correct += t.correct as usize;
             }
-            let drawn = t.frame_times_ms.len() as u64;
-            f.frames += drawn + u64::from(t.dropped_frames);
-            f.bad_frames += u64::from(t.dropped_frames) + u64::from(t.late_frames.unwrap_or(0));
+            let drawn = t.timing.frame_times_ms.len() as u64;
+            f.frames += drawn + u64::from(t.timing.dropped_frames);
+            f.bad_frames +=
+                u64::from(t.timing.dropped_frames) + u64::from(t.timing.late_frames.unwrap_or(0));
         }
     }
     by.into_values().collect()

@@ -18,7 +18,7 @@
 use crate::design::{Design, Task};
 use crate::log::sink::{FileLog, LogSink};
 use crate::log::writer::{Durability, whole_lines_len};
-use crate::log::{Display, Header, LOG_FORMAT, LogLine, Resume, SessionLog, TrialRecord};
+use crate::log::{Display, Header, LOG_FORMAT, LogLine, Resume, SessionLog, Timing, TrialRecord};
 use crate::procedure::{self, Procedure, TrackEstimate};
 use crate::trials::{self, Trial};
 use anyhow::{Result, bail};
@@ -36,21 +36,6 @@ pub enum Phase {
     Trial(usize),
     Break,
     Finished,
-}
-
-/// What was measured while a trial was presented (all times in milliseconds; stamps relative
-/// to the start of this run of the session).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Timing {
-    pub rt_ms: f64,
-    pub onsets_ms: Vec<f64>,
-    pub frame_times_ms: Vec<f64>,
-    pub dropped_frames: u32,
-    pub pauses: u32,
-    pub preload_ms: f64,
-    /// A browser's late frames and measured refresh interval (`None` in the lab app).
-    pub late_frames: Option<u32>,
-    pub refresh_interval_ms: Option<f64>,
 }
 
 /// How a session is started: what goes into the header (or the resume line).
@@ -471,14 +456,7 @@ fn record(t: &Trial, response: u8, timing: Timing) -> TrialRecord {
         test_side: t.test_side,
         response,
         correct: response == t.diff_pair,
-        rt_ms: timing.rt_ms,
-        onsets_ms: timing.onsets_ms,
-        frame_times_ms: timing.frame_times_ms,
-        dropped_frames: timing.dropped_frames,
-        pauses: timing.pauses,
-        preload_ms: timing.preload_ms,
-        late_frames: timing.late_frames,
-        refresh_interval_ms: timing.refresh_interval_ms,
+        timing,
         catch: t.catch,
     }
 }

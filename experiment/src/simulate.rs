@@ -6,10 +6,11 @@
 
 use crate::design::Design;
 use crate::log::SessionLog;
+use crate::log::Timing;
 use crate::log::sink::{LogSink, MemoryLog};
 use crate::log::writer::Durability;
 use crate::observer::Observer;
-use crate::session::{Phase, Session, StartInfo, Timing};
+use crate::session::{Phase, Session, StartInfo};
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};

@@ -161,13 +161,17 @@ fn a_whole_session_by_keys_and_buttons_is_logged_with_its_timing() {
         assert_eq!(t.correct, t.response == t.diff_pair);
         // 60 repaints a second, 30 video frames: each of the 6 frames of both pairs is drawn
         // (twice), none skipped.
-        assert_eq!(t.frame_times_ms.len(), 12);
-        assert_eq!(t.dropped_frames, 0);
-        assert_eq!(t.onsets_ms.len(), 2);
+        assert_eq!(t.timing.frame_times_ms.len(), 12);
+        assert_eq!(t.timing.dropped_frames, 0);
+        assert_eq!(t.timing.onsets_ms.len(), 2);
         // Pair 2 starts after pair 1's 6 frames (0.2 s) and the 0.1 s gap.
-        assert!(t.onsets_ms[1] - t.onsets_ms[0] >= 300.0 - 1e-6);
-        assert!(t.rt_ms > 0.0 && t.rt_ms < 100.0, "rt {}", t.rt_ms);
-        assert_eq!(t.pauses, 0);
+        assert!(t.timing.onsets_ms[1] - t.timing.onsets_ms[0] >= 300.0 - 1e-6);
+        assert!(
+            t.timing.rt_ms > 0.0 && t.timing.rt_ms < 100.0,
+            "rt {}",
+            t.timing.rt_ms
+        );
+        assert_eq!(t.timing.pauses, 0);
     }
     assert!(log.trials[0].practice && log.main_trials().count() == 4);
 }
@@ -194,10 +198,10 @@ fn pause_restarts_the_presentation_and_quit_keeps_answers_for_resume() {
     h.run_steps(70);
     let log = SessionLog::read(&log_path).unwrap();
     let t = &log.trials[0];
-    assert_eq!(t.pauses, 1);
+    assert_eq!(t.timing.pauses, 1);
     // Only the restarted, complete presentation is kept.
-    assert_eq!(t.frame_times_ms.len(), 12);
-    assert_eq!(t.onsets_ms.len(), 2);
+    assert_eq!(t.timing.frame_times_ms.len(), 12);
+    assert_eq!(t.timing.onsets_ms.len(), 2);
 
     // End of practice, first main trial answered, then Esc + Q quits mid-session.
     press(&mut h, Key::Space);
@@ -252,12 +256,12 @@ fn the_next_trial_loads_while_the_subject_answers() {
     step_until(&mut h, "the response screen", SessionApp::responding);
     press(&mut h, Key::Num1);
     let log = SessionLog::read(&log_path).unwrap();
-    assert!(log.trials[0].preload_ms > 0.0);
+    assert!(log.trials[0].timing.preload_ms > 0.0);
     // Nothing was left to load when trial 2 began: its wait was one repaint's bookkeeping.
     assert!(
-        log.trials[1].preload_ms < 5.0,
+        log.trials[1].timing.preload_ms < 5.0,
         "{}",
-        log.trials[1].preload_ms
+        log.trials[1].timing.preload_ms
     );
 }
 
@@ -332,7 +336,7 @@ fn a_session_runs_from_frames_and_a_log_in_memory() {
     for t in &read.trials {
         // 60 repaints a second, 30 video frames: each of the 6 frames of both pairs drawn
         // twice, none held back for want of a frame.
-        assert_eq!(t.frame_times_ms.len(), 12);
-        assert_eq!(t.dropped_frames, 0);
+        assert_eq!(t.timing.frame_times_ms.len(), 12);
+        assert_eq!(t.timing.dropped_frames, 0);
     }
 }

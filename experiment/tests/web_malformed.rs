@@ -72,12 +72,16 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
     let trial = st.trial.clone().unwrap();
     let answer = |trial: u32, practice: bool| {
         json!({"tab": "A", "session": 1, "practice": practice, "trial": trial, "response": 1,
-               "rt_ms": 500.0})
+               "timing": {"rt_ms": 500.0}})
     };
-    // The current trial's answer with one field set to `value` (a body for a bad case).
+    // The current trial's answer with one field (`outer` or `outer.inner`) set to `value`
+    // (a body for a bad case).
     let answer_with = |field: &str, value: Value| {
         let mut a = answer(1, true);
-        a[field] = value;
+        match field.split_once('.') {
+            Some((outer, inner)) => a[outer][inner] = value,
+            None => a[field] = value,
+        }
         Some(a.to_string())
     };
     // The first answer is stored; the replay is acknowledged without a second line.
@@ -122,7 +126,7 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             path: p("answer"),
             body: Some(
                 json!({"tab":"A","session":2,"practice":true,"trial":1,"response":1,
-                                 "rt_ms":1.0})
+                                 "timing":{"rt_ms":1.0}})
                 .to_string(),
             ),
             status: 409,
@@ -134,7 +138,7 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             path: p("answer"),
             body: Some(
                 json!({"tab":"A","session":1,"practice":true,"trial":1,"response":3,
-                                 "rt_ms":1.0})
+                                 "timing":{"rt_ms":1.0}})
                 .to_string(),
             ),
             status: 400,
@@ -154,7 +158,7 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             path: p("answer"),
             body: Some(
                 json!({"tab":"A","session":1,"practice":"yes","trial":1,"response":1,
-                                 "rt_ms":1.0})
+                                 "timing":{"rt_ms":1.0}})
                 .to_string(),
             ),
             status: 400,
@@ -182,7 +186,7 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             path: p("answer"),
             body: Some(
                 json!({"tab":"B","session":1,"practice":true,"trial":1,"response":1,
-                                 "rt_ms":1.0})
+                                 "timing":{"rt_ms":1.0}})
                 .to_string(),
             ),
             status: 409,
@@ -355,20 +359,36 @@ async fn malformed_requests_get_their_status_and_message_and_change_nothing() {
             message: "unknown field `level`",
         },
         Case {
+            what: "an answer's timing with a field the API does not have",
+            method: "POST",
+            path: p("answer"),
+            body: answer_with("timing.level", json!(8)),
+            status: 400,
+            message: "unknown field `level`",
+        },
+        Case {
+            what: "a browser's answer with pauses",
+            method: "POST",
+            path: p("answer"),
+            body: answer_with("timing.pauses", json!(2)),
+            status: 400,
+            message: "`timing.pauses` is 2",
+        },
+        Case {
             what: "frame times going back",
             method: "POST",
             path: p("answer"),
-            body: answer_with("frame_times_ms", json!([20.0, 10.0])),
+            body: answer_with("timing.frame_times_ms", json!([20.0, 10.0])),
             status: 400,
-            message: "`frame_times_ms`",
+            message: "`timing.frame_times_ms`",
         },
         Case {
             what: "more dropped frames than the trial shows",
             method: "POST",
             path: p("answer"),
-            body: answer_with("dropped_frames", json!(1_000_000)),
+            body: answer_with("timing.dropped_frames", json!(1_000_000)),
             status: 400,
-            message: "`dropped_frames`",
+            message: "`timing.dropped_frames`",
         },
         Case {
             what: "admin with a wrong token",

@@ -63,8 +63,8 @@ fn assert_same_as_simulation(design: &Design, log: &SessionLog, subject: &str) {
     let b = d.browser.as_ref().expect("with the browser's facts");
     assert_eq!(b.viewing_distance_mm, 600.0);
     for t in &log.trials {
-        assert_eq!(t.late_frames, Some(0));
-        assert_eq!(t.refresh_interval_ms, Some(16.7));
+        assert_eq!(t.timing.late_frames, Some(0));
+        assert_eq!(t.timing.refresh_interval_ms, Some(16.7));
     }
 }
 
@@ -150,7 +150,7 @@ async fn a_server_stopped_mid_session_continues_it_after_a_restart() {
     // An answer stored just before a crash is acknowledged after the restart, before any claim.
     let server = Running::start(&again).await;
     let replay = serde_json::json!({"tab": format!("tab-{subject}"), "session": 1,
-        "practice": true, "trial": 0, "response": 1, "rt_ms": 1.0});
+        "practice": true, "trial": 0, "response": 1, "timing": {"rt_ms": 1.0}});
     let url = format!("{}/api/s/{token}/answer", server.base);
     let r = web_client::post(&reqwest::Client::new(), &url, replay)
         .await

@@ -218,13 +218,15 @@ async function trial(api, state) {
       practice: t.practice,
       trial: t.index,
       response,
-      rt_ms: e.timeStamp - timing.respondAt,
-      onsets_ms: timing.onsets_ms,
-      frame_times_ms: timing.frame_times_ms,
-      dropped_frames: timing.dropped_frames,
-      late_frames: timing.late_frames,
-      refresh_interval_ms: timing.refresh_interval_ms,
-      preload_ms: ms,
+      timing: {
+        rt_ms: e.timeStamp - timing.respondAt,
+        onsets_ms: timing.onsets_ms,
+        frame_times_ms: timing.frame_times_ms,
+        dropped_frames: timing.dropped_frames,
+        late_frames: timing.late_frames,
+        refresh_interval_ms: timing.refresh_interval_ms,
+        preload_ms: ms,
+      },
     };
     message("saving", "Saving your answer…", "");
     const reply = await api.answer(answer);

@@ -35,14 +35,14 @@ pub fn over_limit(
             }
             let counts = per_subject.entry(&log.header.subject).or_default();
             counts.0 += 1;
-            if t.dropped_frames > d.max {
+            if t.timing.dropped_frames > d.max {
                 counts.1 += 1;
                 over.insert((li, ti));
                 places.push(format!(
                     "{}:{} ({} dropped)",
                     log.path.display(),
                     log.trial_lines[ti],
-                    t.dropped_frames
+                    t.timing.dropped_frames
                 ));
             }
         }

@@ -7,7 +7,10 @@
 //! naming the file and line number.
 
 pub mod sink;
+mod timing;
 pub mod writer;
+
+pub use timing::Timing;
 
 use anyhow::{Context, Result, bail};
 use renderer::condition::{Condition, PointSetKind, TimeFilter};
@@ -157,29 +160,11 @@ pub struct TrialRecord {
     /// The pair the subject chose (1 or 2).
     pub response: u8,
     pub correct: bool,
-    /// Milliseconds from the end of the last presentation to the answer.
-    pub rt_ms: f64,
-    /// Onset of each presented video pair, ms since the session started.
-    #[serde(default)]
-    pub onsets_ms: Vec<f64>,
-    /// Display time of each drawn frame, ms since the session started.
-    #[serde(default)]
-    pub frame_times_ms: Vec<f64>,
-    /// Frames whose index skipped during playback.
-    #[serde(default)]
-    pub dropped_frames: u32,
-    /// Times the subject paused (Esc) during this trial; a pause during playback restarts it.
-    #[serde(default)]
-    pub pauses: u32,
-    /// Milliseconds spent loading the trial's frames before it could start (0 when simulated).
-    #[serde(default)]
-    pub preload_ms: f64,
-    /// Frames shown later than their refresh (a browser's count; absent for the lab app).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub late_frames: Option<u32>,
-    /// The refresh interval the browser measured during this trial, milliseconds.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub refresh_interval_ms: Option<f64>,
+    /// What was measured while the trial was presented (flattened: `rt_ms`, `onsets_ms`,
+    /// `frame_times_ms`, `dropped_frames`, `pauses`, `preload_ms`, `late_frames`,
+    /// `refresh_interval_ms`, in that order, as logs have always had them).
+    #[serde(flatten)]
+    pub timing: Timing,
     /// An attention check (the design's `catch_trials`): never fitted.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub catch: bool,
@@ -267,12 +252,6 @@ fn utf8_text(path: &Path, bytes: Vec<u8>) -> Result<String> {
 /// internally tagged enums buffer their content and lose the field path.
 fn parse_line(line: &str) -> Result<LogLine, String> {
     let value: serde_json::Value = serde_json::from_str(line).map_err(|e| e.to_string())?;
-    fn typed<T: serde::de::DeserializeOwned>(v: serde_json::Value) -> Result<T, String> {
-        serde_path_to_error::deserialize(v).map_err(|e| match e.path().to_string() {
-            p if p == "." => e.inner().to_string(),
-            p => format!("field `{p}`: {}", e.inner()),
-        })
-    }
     let kind = value
         .get("kind")
         .and_then(|k| k.as_str())
@@ -283,13 +262,35 @@ fn parse_line(line: &str) -> Result<LogLine, String> {
     }
     match kind.as_deref() {
         Some("header") => typed(fields).map(LogLine::Header),
-        Some("trial") => typed(fields).map(LogLine::Trial),
+        Some("trial") => typed(fields.clone())
+            .map(LogLine::Trial)
+            .map_err(|e| timing_problem(&fields).unwrap_or(e)),
         Some("resume") => typed(fields).map(LogLine::Resume),
         Some(other) => Err(format!(
             "field `kind` is {other:?}; expected \"header\", \"trial\" or \"resume\""
         )),
         None => Err("no field `kind` (a string); expected a log line object".into()),
     }
+}
+
+/// `v` read as a `T`, or the error with the path of the field it is in.
+fn typed<T: serde::de::DeserializeOwned>(v: serde_json::Value) -> Result<T, String> {
+    serde_path_to_error::deserialize(v).map_err(|e| match e.path().to_string() {
+        p if p == "." => e.inner().to_string(),
+        p => format!("field `{p}`: {}", e.inner()),
+    })
+}
+
+/// What is wrong with a trial line's timing fields, named by field. (Inside the record the
+/// timing is flattened, and serde's flattening loses the field path.)
+fn timing_problem(fields: &serde_json::Value) -> Option<String> {
+    let timing: serde_json::Map<_, _> = fields
+        .as_object()?
+        .iter()
+        .filter(|(k, _)| Timing::FIELDS.contains(&k.as_str()))
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .collect();
+    typed::<Timing>(serde_json::Value::Object(timing)).err()
 }
 
 /// Parse a log's text; `path` names it in messages.
@@ -400,14 +401,10 @@ mod tests {
             test_side: Side::Left,
             response: 1,
             correct: true,
-            rt_ms: 500.0,
-            onsets_ms: vec![],
-            frame_times_ms: vec![],
-            dropped_frames: 0,
-            pauses: 0,
-            preload_ms: 0.0,
-            late_frames: None,
-            refresh_interval_ms: None,
+            timing: Timing {
+                rt_ms: 500.0,
+                ..Timing::default()
+            },
             catch: false,
         }
     }
@@ -479,5 +476,41 @@ mod tests {
         h.format = "blurlab-session/7".into();
         let err = parse_log(Path::new("x.jsonl"), &text(&[LogLine::Header(h)])).unwrap_err();
         assert!(err.to_string().contains("blurlab-session/1"));
+    }
+
+    /// Lines as the code before the shared `Timing` wrote them (a browser's with every field, a
+    /// lab app's without the browser's two, a simulation's), read and written back byte for
+    /// byte.
+    #[test]
+    fn trial_lines_keep_their_bytes_through_the_shared_timing() {
+        let lines = [
+            r#"{"kind":"trial","index":3,"practice":false,"scene":"plane","point_set":"hammersley","time_filter":"box","level":8,"test_stimulus":"t","reference_stimulus":"r","diff_pair":2,"test_side":"right","response":2,"correct":true,"rt_ms":612.5,"onsets_ms":[10.0,1210.25],"frame_times_ms":[10.0,26.7,43.35],"dropped_frames":1,"pauses":0,"preload_ms":12.0,"late_frames":2,"refresh_interval_ms":16.7,"catch":true}"#,
+            r#"{"kind":"trial","index":0,"practice":true,"scene":"spheres","point_set":"stratified","time_filter":"triangle","level":16,"test_stimulus":"t","reference_stimulus":"r","diff_pair":1,"test_side":"left","response":2,"correct":false,"rt_ms":0.0,"onsets_ms":[0.0],"frame_times_ms":[0.0],"dropped_frames":0,"pauses":3,"preload_ms":0.5}"#,
+            r#"{"kind":"trial","index":1,"practice":false,"scene":"plane","point_set":"hammersley","time_filter":"box","level":8,"test_stimulus":"t","reference_stimulus":"r","diff_pair":1,"test_side":"left","response":1,"correct":true,"rt_ms":0.0,"onsets_ms":[],"frame_times_ms":[],"dropped_frames":0,"pauses":0,"preload_ms":0.0}"#,
+        ];
+        for line in lines {
+            let parsed = parse_line(line).unwrap();
+            assert_eq!(serde_json::to_string(&parsed).unwrap(), line);
+        }
+    }
+
+    /// Old logs without the timing fields (only `rt_ms` was ever required) still read.
+    #[test]
+    fn a_trial_line_with_only_rt_ms_reads_with_default_timing() {
+        let line = r#"{"kind":"trial","index":0,"practice":false,"scene":"plane","point_set":"hammersley","time_filter":"box","level":8,"test_stimulus":"t","reference_stimulus":"r","diff_pair":1,"test_side":"left","response":1,"correct":true,"rt_ms":500}"#;
+        let LogLine::Trial(t) = parse_line(line).unwrap() else {
+            panic!("not a trial")
+        };
+        assert_eq!(t.timing, trial(0).timing);
+        let missing = line.replace(r#","rt_ms":500"#, "");
+        assert!(parse_line(&missing).unwrap_err().contains("`rt_ms`"));
+    }
+
+    /// A timing field of the wrong type is named, as every other field is.
+    #[test]
+    fn a_bad_timing_field_is_named() {
+        let line = r#"{"kind":"trial","index":0,"practice":false,"scene":"plane","point_set":"hammersley","time_filter":"box","level":8,"test_stimulus":"t","reference_stimulus":"r","diff_pair":1,"test_side":"left","response":1,"correct":true,"rt_ms":500,"frame_times_ms":"fast"}"#;
+        let err = parse_line(line).unwrap_err();
+        assert!(err.contains("field `frame_times_ms`"), "{err}");
     }
 }

@@ -13,7 +13,7 @@
 //! frame is counted as dropped, so `frames shown + dropped = frames x loops` for each pair.
 
 use crate::design::{Design, Layout};
-use crate::session::Timing;
+use crate::log::Timing;
 
 /// Which pair a playback step shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -7,9 +7,10 @@ use super::error::ApiError;
 use super::study::Study;
 use super::wire::{Ack, Answer, AnswerReply, DisplayFacts, Feedback, Progress, State, TrialView};
 use crate::display;
+use crate::log::Timing;
 use crate::log::writer::Durability;
 use crate::log::{BrowserDisplay, Display, SessionLog, Side};
-use crate::session::{Phase, Session, StartInfo, Timing};
+use crate::session::{Phase, Session, StartInfo};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -380,16 +381,10 @@ impl Subject {
             )));
         }
         check_answer(a, study.frames_shown)?;
-        let timing = Timing {
-            rt_ms: a.rt_ms,
-            onsets_ms: a.onsets_ms.clone(),
-            frame_times_ms: a.frame_times_ms.clone(),
-            dropped_frames: a.dropped_frames,
-            pauses: 0,
-            preload_ms: a.preload_ms,
-            late_frames: Some(a.late_frames),
-            refresh_interval_ms: Some(a.refresh_interval_ms),
-        };
+        let mut timing = a.timing.clone();
+        // Logs from browsers have always carried both, 0 when the browser did not say.
+        timing.late_frames.get_or_insert(0);
+        timing.refresh_interval_ms.get_or_insert(0.0);
         let session = self.session.as_mut().expect("opened");
         let answered = session
             .answer(a.response, timing)
@@ -601,41 +596,54 @@ fn check_answer(a: &Answer, shown: u64) -> Result<(), ApiError> {
             a.response
         )));
     }
-    finite_nonnegative("rt_ms", a.rt_ms)?;
-    if a.rt_ms > MAX_RT_MS {
+    check_timing(&a.timing, shown)
+}
+
+/// A browser's timing: times finite, non-negative and in order, counts within the frames the
+/// trial shows. Messages name the field as `timing.<name>`.
+fn check_timing(t: &Timing, shown: u64) -> Result<(), ApiError> {
+    finite_nonnegative("timing.rt_ms", t.rt_ms)?;
+    if t.rt_ms > MAX_RT_MS {
         return Err(ApiError::bad_request(format!(
-            "field `rt_ms` is {}; expected at most {MAX_RT_MS} (a day)",
-            a.rt_ms
+            "field `timing.rt_ms` is {}; expected at most {MAX_RT_MS} (a day)",
+            t.rt_ms
         )));
     }
-    finite_nonnegative("refresh_interval_ms", a.refresh_interval_ms)?;
-    finite_nonnegative("preload_ms", a.preload_ms)?;
+    if t.pauses != 0 {
+        return Err(ApiError::bad_request(format!(
+            "field `timing.pauses` is {}; expected 0 (a browser session does not pause)",
+            t.pauses
+        )));
+    }
+    let refresh = t.refresh_interval_ms.unwrap_or(0.0);
+    finite_nonnegative("timing.refresh_interval_ms", refresh)?;
+    finite_nonnegative("timing.preload_ms", t.preload_ms)?;
     for (name, v) in [
-        ("onsets_ms", &a.onsets_ms),
-        ("frame_times_ms", &a.frame_times_ms),
+        ("onsets_ms", &t.onsets_ms),
+        ("frame_times_ms", &t.frame_times_ms),
     ] {
         if let Some(x) = v.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
             return Err(ApiError::bad_request(format!(
-                "field `{name}` holds {x}; expected finite times >= 0"
+                "field `timing.{name}` holds {x}; expected finite times >= 0"
             )));
         }
         if let Some(w) = v.windows(2).find(|w| w[1] < w[0]) {
             return Err(ApiError::bad_request(format!(
-                "field `{name}` goes back from {} to {}; expected times in the order they \
-                 happened",
+                "field `timing.{name}` goes back from {} to {}; expected times in the order \
+                 they happened",
                 w[0], w[1]
             )));
         }
     }
     for (name, n) in [
-        ("frame_times_ms", a.frame_times_ms.len() as u64),
-        ("dropped_frames", u64::from(a.dropped_frames)),
-        ("late_frames", u64::from(a.late_frames)),
+        ("frame_times_ms", t.frame_times_ms.len() as u64),
+        ("dropped_frames", u64::from(t.dropped_frames)),
+        ("late_frames", u64::from(t.late_frames.unwrap_or(0))),
     ] {
         if n > shown {
             return Err(ApiError::bad_request(format!(
-                "field `{name}` counts {n} frames, but the trial shows {shown}; expected at most \
-                 {shown}"
+                "field `timing.{name}` counts {n} frames, but the trial shows {shown}; expected \
+                 at most {shown}"
             )));
         }
     }
@@ -668,13 +676,16 @@ mod tests {
             practice: false,
             trial: 0,
             response: 1,
-            rt_ms: 800.0,
-            onsets_ms: vec![10.0, 500.0],
-            frame_times_ms: vec![10.0, 26.7, 43.3],
-            dropped_frames: 0,
-            late_frames: 0,
-            refresh_interval_ms: 16.7,
-            preload_ms: 5.0,
+            timing: Timing {
+                rt_ms: 800.0,
+                onsets_ms: vec![10.0, 500.0],
+                frame_times_ms: vec![10.0, 26.7, 43.3],
+                dropped_frames: 0,
+                pauses: 0,
+                preload_ms: 5.0,
+                late_frames: Some(0),
+                refresh_interval_ms: Some(16.7),
+            },
         }
     }
 
@@ -715,23 +726,27 @@ mod tests {
     #[test]
     fn answers_out_of_range_are_refused_by_field() {
         check_answer(&answer(), 12).unwrap();
-        let cases: [(&str, Spoil<Answer>); 7] = [
-            ("rt_ms", |a| a.rt_ms = 1e300),
-            ("frame_times_ms", |a| a.frame_times_ms = vec![30.0, 20.0]),
-            ("frame_times_ms", |a| a.frame_times_ms = vec![-1.0]),
-            ("onsets_ms", |a| a.onsets_ms = vec![500.0, 10.0]),
-            ("dropped_frames", |a| a.dropped_frames = 13),
-            ("late_frames", |a| a.late_frames = u32::MAX),
-            ("frame_times_ms", |a| {
-                a.frame_times_ms = (0..13).map(f64::from).collect()
+        let cases: [(&str, Spoil<Timing>); 9] = [
+            ("rt_ms", |t| t.rt_ms = 1e300),
+            ("frame_times_ms", |t| t.frame_times_ms = vec![30.0, 20.0]),
+            ("frame_times_ms", |t| t.frame_times_ms = vec![-1.0]),
+            ("onsets_ms", |t| t.onsets_ms = vec![500.0, 10.0]),
+            ("dropped_frames", |t| t.dropped_frames = 13),
+            ("late_frames", |t| t.late_frames = Some(u32::MAX)),
+            ("frame_times_ms", |t| {
+                t.frame_times_ms = (0..13).map(f64::from).collect()
+            }),
+            ("pauses", |t| t.pauses = 1),
+            ("refresh_interval_ms", |t| {
+                t.refresh_interval_ms = Some(f64::NAN)
             }),
         ];
         for (field, spoil) in cases {
             let mut a = answer();
-            spoil(&mut a);
+            spoil(&mut a.timing);
             let m = message(check_answer(&a, 12).unwrap_err());
             assert!(
-                m.starts_with("400") && m.contains(&format!("`{field}`")),
+                m.starts_with("400") && m.contains(&format!("`timing.{field}`")),
                 "{field}: {m}"
             );
         }
@@ -744,6 +759,9 @@ mod tests {
         assert!(serde_json::from_value::<DisplayFacts>(v).is_err());
         let mut v = serde_json::to_value(answer()).unwrap();
         v["extra"] = 1.into();
+        assert!(serde_json::from_value::<Answer>(v).is_err());
+        let mut v = serde_json::to_value(answer()).unwrap();
+        v["timing"]["extra"] = 1.into();
         assert!(serde_json::from_value::<Answer>(v).is_err());
     }
 }

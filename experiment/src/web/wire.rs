@@ -2,6 +2,7 @@
 //! level, point set, scene, stimulus id or which pair differs: the browser sees opaque video ids
 //! (`video_ids.rs`).
 
+use crate::log::Timing;
 use serde::{Deserialize, Serialize};
 
 /// What the browser shows now.
@@ -156,19 +157,8 @@ pub struct Answer {
     pub practice: bool,
     pub trial: u32,
     pub response: u8,
-    pub rt_ms: f64,
-    #[serde(default)]
-    pub onsets_ms: Vec<f64>,
-    #[serde(default)]
-    pub frame_times_ms: Vec<f64>,
-    #[serde(default)]
-    pub dropped_frames: u32,
-    #[serde(default)]
-    pub late_frames: u32,
-    #[serde(default)]
-    pub refresh_interval_ms: f64,
-    #[serde(default)]
-    pub preload_ms: f64,
+    /// What the browser measured, as the log keeps it (a browser does not pause: `pauses` 0).
+    pub timing: Timing,
 }
 
 /// Which answer an acknowledgement is for: the idempotency key (with the subject's token).

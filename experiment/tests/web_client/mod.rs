@@ -6,8 +6,9 @@
 //! follows the server's: the browser itself never learns what a trial shows.
 #![allow(dead_code)]
 
+use experiment::log::Timing;
 use experiment::log::sink::MemoryLog;
-use experiment::session::{Phase, Session, StartInfo, Timing};
+use experiment::session::{Phase, Session, StartInfo};
 use experiment::web::wire::{AnswerReply, ErrorBody, State};
 use experiment::{Design, Observer};
 use serde_json::json;
@@ -310,10 +311,10 @@ impl SimBrowser {
                     tokio::time::sleep(self.think).await;
                     let response = self.observer.respond(&shadow_trial, &self.subject)?;
                     let body = json!({"tab": self.tab, "session": 1, "practice": view.practice,
-                        "trial": view.index, "response": response, "rt_ms": 600.0,
+                        "trial": view.index, "response": response, "timing": {"rt_ms": 600.0,
                         "onsets_ms": [0.0, 1200.0], "frame_times_ms": [0.0, 16.7, 33.3],
                         "dropped_frames": 0, "late_frames": 0, "refresh_interval_ms": 16.7,
-                        "preload_ms": 12.0});
+                        "preload_ms": 12.0}});
                     let sent = Instant::now();
                     let r = self.post_retrying("answer", body, &mut out).await?;
                     if r.status == 409 {
