@@ -12,6 +12,7 @@ pub mod connections;
 pub mod error;
 pub mod export;
 pub mod guard;
+mod inputs;
 pub mod packs;
 pub mod participant;
 mod redirect;
