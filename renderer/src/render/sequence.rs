@@ -1,7 +1,7 @@
 //! Rendering a run of frames to disk: each frame is written (PNG, and EXR on request) as soon
-//! as it is done (on a writer thread, overlapping the next frame's tracing), to a temporary name then renamed, reporting progress in samples and
-//! the frame under way ([`crate::progress`]; `render scene` shows frames done, samples per
-//! second and the time left).
+//! as it is done (on a writer thread, overlapping the next frame's tracing), to a temporary name
+//! then renamed, reporting progress in samples and the frame under way ([`crate::progress`];
+//! `render scene` shows frames done, samples per second and the time left).
 
 use super::{FrameStats, render_frame};
 use crate::atomic::write_atomic;
