@@ -266,3 +266,16 @@ async fn a_platform_study_from_link_to_completion_and_screen_out() {
     assert_eq!(back, other);
     server.stop().await;
 }
+
+/// `serve --check` counts a session's catch trials with its other trials (it left them out).
+#[test]
+fn the_session_budget_counts_catch_trials() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = study(dir.path());
+    let cfg = config(&design.path, &dir.path().join("study"), 1);
+    let (_, budget) = experiment::web::measure_study(&cfg, &mut |_, _, _| {}).unwrap();
+    let procedure_trials = experiment::trials::plan(&design, "w001").main.len();
+    let main = design.main_trial_count() as usize;
+    assert!(main > procedure_trials, "the design has catch trials");
+    assert_eq!(budget.trials, design.file.practice.trials as usize + main);
+}

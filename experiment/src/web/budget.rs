@@ -4,7 +4,8 @@
 //! prints it at every start, `blurlab serve --check` prints it and stops.
 
 use super::study::Study;
-use crate::design::Layout;
+use crate::design::{Design, Layout};
+use crate::trials::Trial;
 use std::collections::BTreeSet;
 
 /// Above this a browser cannot hold a trial (decoded lookahead plus the trial's encoded videos):
@@ -54,14 +55,26 @@ pub struct Budget {
     pub limits: Limits,
 }
 
+/// One subject's trials in the order shown: the practice, then the main trials as the
+/// procedure gives them, catch trials included (all of them for a procedure that knows its
+/// order, constant stimuli; for an adaptive one only those no answer can change).
+fn session_trials(design: &Design) -> Vec<Trial> {
+    let practice = crate::trials::plan(design, "w001").practice;
+    let main = crate::procedure::start(design, "w001");
+    let rest = main.ahead(main.planned() as usize);
+    practice
+        .into_iter()
+        .chain(main.current().cloned())
+        .chain(rest)
+        .collect()
+}
+
 impl Budget {
     pub fn of(study: &Study, limits: Limits) -> Self {
         let v = &study.video;
         let pack = |id: &str| study.video_of(id).map(|s| s.pack.clone());
-        let plan = crate::trials::plan(&study.design, "w001");
         let exact = study.design.file.procedure.is_constant();
-        let trials: Vec<crate::trials::Trial> =
-            plan.practice.into_iter().chain(plan.main).collect();
+        let trials = session_trials(&study.design);
         let n_trials = if exact {
             trials.len()
         } else {
@@ -78,8 +91,7 @@ impl Budget {
             .map(|p| p.bytes)
             .sum();
         let png = |id: &str| pack(id).map_or(0, |p| p.png_bytes);
-        let trial_png =
-            |t: &crate::trials::Trial| 3 * png(&t.reference_stimulus) + png(&t.test_stimulus);
+        let trial_png = |t: &Trial| 3 * png(&t.reference_stimulus) + png(&t.test_stimulus);
         let session_png_bytes = if exact {
             trials.iter().map(trial_png).sum()
         } else {
