@@ -1,8 +1,8 @@
-//! How long a session takes, from the design's timing: per trial the fixation, each pair's
-//! video played `loops` times (sequential layout: pair 1, the gap, pair 2; grid: both pairs at
-//! once, as `experiment::playback::presentation` steps them), and the answer; practice trials count,
-//! and each break adds its rest. The answer time and the rest are assumptions (the design does
-//! not hold them): the command's `--response-seconds` and `--break-seconds`.
+//! How long a session takes, from the design's timing: per trial the fixation, each pair's video
+//! played `loops` times (sequential layout: pair 1, the gap, pair 2; grid: both pairs at once, as
+//! `experiment::playback::presentation` steps them), and the answer; practice trials count, and
+//! each break adds its rest. The answer time and the rest are assumptions (the design does not hold
+//! them): the command's `--response-seconds` and `--break-seconds`.
 
 use experiment::Design;
 use experiment::design::Layout;

@@ -1,9 +1,9 @@
-//! Where the model sees a difference, and what is there: for each frame of a pair, the place
-//! the aperture lands ([`crate::observer::model::pooling::Placement::MostVisible`]), the luminance, clipping and
-//! test-minus-reference difference under it, and how the frame's pooled difference
-//! (D^beta summed over the frame) splits over local adaptation luminance and clipped pixels.
-//! A diagnostic for a prediction that looks wrong (docs/predict.md, "What the model sees in
-//! the spheres"): it computes nothing the prediction does not, it only shows where.
+//! Where the model sees a difference, and what is there: for each frame of a pair, the place the
+//! aperture lands ([`crate::observer::model::pooling::Placement::MostVisible`]), the luminance,
+//! clipping and test-minus-reference difference under it, and how the frame's pooled difference
+//! (D^beta summed over the frame) splits over local adaptation luminance and clipped pixels. A
+//! diagnostic for a prediction that looks wrong (docs/predict.md, "What the model sees in the
+//! spheres"): it computes nothing the prediction does not, it only shows where.
 
 use super::stimuli::mean_luminance;
 use crate::observer::model::display::Display;

@@ -1,9 +1,9 @@
-//! Loading a trial's videos into GPU textures: frames are decoded (and made RGBA) on worker
-//! threads in the order they are due ([`crate::playback::stream::loading_order`]) and uploaded by the UI
-//! thread in that order, a few per repaint, so the frames loaded are always a prefix of each
-//! video and the trial can start before the last is in ([`crate::playback::stream::can_start`]).
-//! Frames come from a [`FrameStore`] (the stimulus folder, or memory). Textures use nearest
-//! filtering: a video pixel is a screen pixel.
+//! Loading a trial's videos into GPU textures: frames are decoded (and made RGBA) on worker threads
+//! in the order they are due ([`crate::playback::stream::loading_order`]) and uploaded by the UI
+//! thread in that order, a few per repaint, so the frames loaded are always a prefix of each video
+//! and the trial can start before the last is in ([`crate::playback::stream::can_start`]). Frames
+//! come from a [`FrameStore`] (the stimulus folder, or memory). Textures use nearest filtering: a
+//! video pixel is a screen pixel.
 
 use crate::playback::frame_store::{FrameStore, StoredVideo};
 use crate::playback::stream::{self, Due};

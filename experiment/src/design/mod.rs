@@ -1,8 +1,8 @@
-//! The design file (`scenes/<study>/design.json`, format `blurlab-design/1`): which stimuli a
-//! study shows and how. Factors (scenes x point sets x time filters) and test levels pick the
-//! test videos by their manifest ids; every field past `seed` has a default (see
-//! `docs/experiment.md`). [`Design::load`] (`crate::design_load`) validates everything a session relies on,
-//! naming the file and the field of every problem; `procedure` is the `procedure` field.
+//! The design file (`scenes/<study>/design.json`, format `blurlab-design/1`): which stimuli a study
+//! shows and how. Factors (scenes x point sets x time filters) and test levels pick the test videos
+//! by their manifest ids; every field past `seed` has a default (see `docs/experiment.md`).
+//! [`Design::load`] (`crate::design_load`) validates everything a session relies on, naming the
+//! file and the field of every problem; `procedure` is the `procedure` field.
 
 pub mod keys;
 pub mod online;

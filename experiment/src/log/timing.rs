@@ -57,7 +57,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn fields_names_every_field_in_order() {
+    fn fields_names_every_field() {
         let full = Timing {
             late_frames: Some(0),
             refresh_interval_ms: Some(0.0),

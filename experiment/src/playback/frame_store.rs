@@ -1,12 +1,12 @@
 //! Where the app's videos come from: the session's frame store behind a small interface, so
 //! the loader, the prefetch and the app can be driven without a file system (issue 27).
 //!
-//! What the player needs of a stimulus is its [`StoredVideo`] (size, rate, frame count) and,
-//! on a decoding thread, each frame decoded ([`FrameStore::frame`]). [`FrameDir`] is the
-//! rendered stimulus set on disk as `run` uses it: the manifest's PNG files, read and decoded
-//! exactly as [`crate::playback::frames::load_frame`] does (same bytes, same messages). [`MemoryFrames`]
-//! holds decoded frames in memory: tests, and any front end that makes its stimuli itself.
-//! No GUI types, so both can be tested headless. `predict` keeps reading through
+//! What the player needs of a stimulus is its [`StoredVideo`] (size, rate, frame count) and, on a
+//! decoding thread, each frame decoded ([`FrameStore::frame`]). [`FrameDir`] is the rendered
+//! stimulus set on disk as `run` uses it: the manifest's PNG files, read and decoded exactly as
+//! [`crate::playback::frames::load_frame`] does (same bytes, same messages). [`MemoryFrames`] holds
+//! decoded frames in memory: tests, and any front end that makes its stimuli itself. No GUI types,
+//! so both can be tested headless. `predict` keeps reading through
 //! [`crate::playback::frames::VideoSource`] (it needs frame files, not a player's view of them).
 
 use crate::playback::frames::{RgbFrame, VideoSource, decode_png};

@@ -28,9 +28,9 @@ pub struct Due {
     pub at_s: f64,
 }
 
-/// Seconds from `trial`'s start to the first frame of `stimulus` (videos of `frames` frames
-/// made at `fps`, played at the design's rate): the fixation, and for a video only pair 2 shows in the sequential layout, pair 1's
-/// playback and the gap as well.
+/// Seconds from `trial`'s start to the first frame of `stimulus` (videos of `frames` frames made at
+/// `fps`, played at the design's rate): the fixation, and for a video only pair 2 shows in the
+/// sequential layout, pair 1's playback and the gap as well.
 pub fn first_shown_s(design: &Design, trial: &Trial, stimulus: &str, frames: u32, fps: f64) -> f64 {
     let p = &design.file.playback;
     let fixation = p.fixation_ms as f64 / 1000.0;

@@ -55,12 +55,15 @@ pub struct Budget {
     pub limits: Limits,
 }
 
+/// The subject whose session the budget plays through (every subject's costs the same).
+const SUBJECT: &str = "w001";
+
 /// One subject's trials in the order shown: the practice, then the main trials as the
 /// procedure gives them, catch trials included (all of them for a procedure that knows its
 /// order, constant stimuli; for an adaptive one only those no answer can change).
 fn session_trials(design: &Design) -> Vec<Trial> {
-    let practice = crate::trials::plan(design, "w001").practice;
-    let main = crate::procedure::start(design, "w001");
+    let practice = crate::trials::practice_trials(design, design.subject_seed(SUBJECT));
+    let main = crate::procedure::start(design, SUBJECT);
     let rest = main.ahead(main.planned() as usize);
     practice
         .into_iter()

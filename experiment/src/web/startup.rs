@@ -1,6 +1,6 @@
-//! What `blurlab serve` checks of its study folder before it listens (issue 51 item 1; the
-//! tokens are checked as they are read, `tokens::check_tokens`): every subject's existing log
-//! belonging to that subject, to a browser session and to this design. A fault found here names the file and the
+//! What `blurlab serve` checks of its study folder before it listens (issue 51 item 1; the tokens
+//! are checked as they are read, `tokens::check_tokens`): every subject's existing log belonging to
+//! that subject, to a browser session and to this design. A fault found here names the file and the
 //! field; found later, in front of a subject, no retry could fix it.
 
 use crate::Design;

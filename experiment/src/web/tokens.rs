@@ -150,7 +150,7 @@ impl Tokens {
 }
 
 /// `tokens` (read from `path`) hold tokens where tokens go, and no token or subject twice.
-pub fn check_tokens(tokens: &Tokens, path: &Path) -> Result<()> {
+fn check_tokens(tokens: &Tokens, path: &Path) -> Result<()> {
     let at = path.display();
     let token_rule = "expected 32 lowercase hex digits, as `blurlab serve` writes them (delete \
                       the file to make new ones; subjects' links change)";

@@ -1,9 +1,10 @@
 //! A simulated browser for the `blurlab serve` tests and the load benchmark: it claims a link,
 //! posts display facts, leaves screens, fetches each video it is shown once (the current trial's,
-//! then those of the next trials, as the browser fetches ahead), waits a think time and answers with a simulated observer, retrying with back-off through
-//! dropped connections and server restarts (the same answer again: the server acknowledges it
-//! once). The observer answers a shadow session (same design, same subject, a memory log) that
-//! follows the server's: the browser itself never learns what a trial shows.
+//! then those of the next trials, as the browser fetches ahead), waits a think time and answers
+//! with a simulated observer, retrying with back-off through dropped connections and server
+//! restarts (the same answer again: the server acknowledges it once). The observer answers a shadow
+//! session (same design, same subject, a memory log) that follows the server's: the browser itself
+//! never learns what a trial shows.
 #![allow(dead_code)]
 
 use experiment::log::Timing;
