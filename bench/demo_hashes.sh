@@ -7,10 +7,15 @@
 #   bash bench/demo_hashes.sh > /tmp/before.sha   # on the old commit
 #   bash bench/demo_hashes.sh > /tmp/after.sha    # on the new one
 #   diff /tmp/before.sha /tmp/after.sha && echo identical
+# BLURLAB=path/to/blurlab runs that binary instead of `cargo run` (two builds of one commit).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rm -rf results/demo stimuli/demo
-cargo run --quiet -- demo --no-progress > /dev/null 2>&1
+if [ -n "${BLURLAB:-}" ]; then
+  "$BLURLAB" demo --no-progress > /dev/null 2>&1
+else
+  cargo run --quiet -- demo --no-progress > /dev/null 2>&1
+fi
 find results/demo stimuli/demo -type f \
     ! -name 'frame_*.json' ! -name manifest.json ! -name summary.md ! -name predict.md \
     ! -path '*/convergence/*' -print0 | sort -z | xargs -0 sha256sum

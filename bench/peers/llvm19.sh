@@ -5,6 +5,8 @@ llvm="$(ls /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/llvm-19/lib/libLLVM
 if [ -z "$llvm" ]; then
   echo "Mitsuba's llvm_ad_rgb needs LLVM 19: installing Debian's libllvm19" >&2
   if [ "$(id -u)" = 0 ]; then apt-get install -y libllvm19 >&2; else sudo apt-get install -y libllvm19 >&2; fi
-  llvm="$(ls /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/llvm-19/lib/libLLVM.so* | head -n1)"
+  # Debian puts it in one of the two places: `ls` fails on the other (and `set -e` would stop).
+  llvm="$(ls /usr/lib/x86_64-linux-gnu/libLLVM.so.19* /usr/lib/llvm-19/lib/libLLVM.so* 2>/dev/null | head -n1 || true)"
+  [ -n "$llvm" ] || { echo "libllvm19 installed, but no libLLVM.so.19 found" >&2; exit 1; }
 fi
 export DRJIT_LIBLLVM_PATH="$llvm"

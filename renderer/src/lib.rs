@@ -9,6 +9,19 @@
 //! tracer. The library knows no command line: `blurlab render` (the root package's
 //! `src/cli/render/`) parses the flags and calls it.
 
+// Fused multiply-adds round once where a product and a sum round twice, and glam fuses its
+// cross products and quaternion products whenever FMA is on at compile time (`-C
+// target-cpu=native` turns it on): frames would then differ in their last bits from the
+// default build's, and shards of one job rendered by the two builds would not be the same
+// bytes (README.md, "On a cluster"). An AVX2 build without FMA keeps every bit and is faster
+// (BENCHMARKS.md, "An AVX2 build").
+#[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
+compile_error!(
+    "blurlab must be built without fused multiply-adds, or its pictures change: add \
+     `-C target-feature=-fma` to RUSTFLAGS (an AVX2 build: RUSTFLAGS=\"-C \
+     target-cpu=x86-64-v3 -C target-feature=-fma\"; BENCHMARKS.md, \"An AVX2 build\")"
+);
+
 // The light core: the vocabulary every crate shares, in one folder (`shared/`) that imports
 // nothing of the tracer. Re-exported here, so its modules keep their short paths
 // (`renderer::manifest`, `renderer::limits`, ...).
