@@ -19,10 +19,10 @@ cd "$(dirname "$0")/.."
 grep -qw avx2 /proc/cpuinfo || { echo "this CPU has no AVX2" >&2; exit 1; }
 declare -A flags=([base]="" [avx2]="-C target-cpu=x86-64-v3 -C target-feature=-fma")
 for build in base avx2; do
-  export RUSTFLAGS="${flags[$build]}" CARGO_TARGET_DIR="$work/$build"
-  cargo build --quiet --release -p blurlab --bin blurlab
-  cargo build --quiet --release -p renderer --example sample_cost
-  unset RUSTFLAGS CARGO_TARGET_DIR
+  for what in "-p blurlab --bin blurlab" "-p renderer --example sample_cost"; do
+    # shellcheck disable=SC2086 # `what` is two flags and their values
+    RUSTFLAGS="${flags[$build]}" CARGO_TARGET_DIR="$work/$build" cargo build --quiet --release $what
+  done
 done
 for build in base avx2; do
   BLURLAB="$work/$build/release/blurlab" bash bench/demo_hashes.sh > "$work/$build.demo.sha"

@@ -18,8 +18,7 @@
 #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
 compile_error!(
     "blurlab must be built without fused multiply-adds, or its pictures change: add \
-     `-C target-feature=-fma` to RUSTFLAGS (an AVX2 build: RUSTFLAGS=\"-C \
-     target-cpu=x86-64-v3 -C target-feature=-fma\"; BENCHMARKS.md, \"An AVX2 build\")"
+     `-C target-feature=-fma` to RUSTFLAGS (BENCHMARKS.md, \"An AVX2 build\")"
 );
 
 // The light core: the vocabulary every crate shares, in one folder (`shared/`) that imports
