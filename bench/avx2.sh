@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The AVX2 build (x86-64-v3 without FMA) against the default build of this checkout: the same
-# bytes, and the time per camera sample (BENCHMARKS.md, "An AVX2 build").
+# bytes, and the time per camera sample (BENCHMARKS.md, "Lanes chosen at run time").
 #
 #   bash bench/avx2.sh WORK_DIR [ROUNDS]
 #
@@ -25,15 +25,9 @@ for build in base avx2; do
   done
 done
 for build in base avx2; do
-  BLURLAB="$work/$build/release/blurlab" bash bench/demo_hashes.sh > "$work/$build.demo.sha"
-  for scene in plane spheres; do
-    out="$work/$build.frames/$scene"
-    rm -rf "$out"
-    "$work/$build/release/blurlab" render scene "scenes/thesis/$scene.json" --frames 93 --exr \
-      --out "$out" --no-progress > /dev/null
-  done
-  (cd "$work/$build.frames" && find . -type f \( -name '*.png' -o -name '*.exr' \) -print0 |
-    sort -z | xargs -0 sha256sum) > "$work/$build.frames.sha"
+  export BLURLAB="$work/$build/release/blurlab"
+  bash bench/demo_hashes.sh > "$work/$build.demo.sha"
+  bash bench/thesis_frames.sh "$work/$build.frames" > "$work/$build.frames.sha"
 done
 rm -rf results/demo stimuli/demo
 diff "$work/base.demo.sha" "$work/avx2.demo.sha"

@@ -52,6 +52,10 @@ use thread_cpu::thread_cpu_ns;
 
 fn main() -> Result<()> {
     let args = Args::parse();
+    // bench/lanes.sh times SSE2 lanes against the widest this CPU has.
+    if std::env::var("BLURLAB_LANES").as_deref() == Ok("sse2") {
+        renderer::simd::limit_to_sse2();
+    }
     let scene = Scene::load(&args.scene)?;
     let mut sampling = scene.settings.sampling.clone();
     sampling.spp = args.spp.unwrap_or(sampling.spp);

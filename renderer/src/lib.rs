@@ -14,11 +14,11 @@
 // target-cpu=native` turns it on): frames would then differ in their last bits from the
 // default build's, and shards of one job rendered by the two builds would not be the same
 // bytes (README.md, "On a cluster"). An AVX2 build without FMA keeps every bit and is faster
-// (BENCHMARKS.md, "An AVX2 build").
+// (BENCHMARKS.md, "Lanes chosen at run time").
 #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
 compile_error!(
     "blurlab must be built without fused multiply-adds, or its pictures change: add \
-     `-C target-feature=-fma` to RUSTFLAGS (BENCHMARKS.md, \"An AVX2 build\")"
+     `-C target-feature=-fma` to RUSTFLAGS (BENCHMARKS.md, \"Lanes chosen at run time\")"
 );
 
 // The light core: the vocabulary every crate shares, in one folder (`shared/`) that imports
@@ -82,6 +82,8 @@ pub mod sampling;
 pub mod scene;
 #[cfg(feature = "tracer")]
 pub mod shading;
+#[cfg(feature = "tracer")]
+pub mod simd;
 #[cfg(feature = "tracer")]
 pub mod text;
 #[cfg(feature = "tracer")]

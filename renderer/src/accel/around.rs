@@ -20,7 +20,7 @@
 //! (`accel::packet`'s and `render`'s bit-identity tests). Rays whose time lies outside the
 //! shutter never come here (they are not `simple`).
 
-use super::lanes::{Lane, RayPacket, SLACK, dot};
+use super::lanes::{Lanes, RayPacket, SLACK, dot, each};
 use crate::geometry::Bounds;
 use glam::Vec3A;
 
@@ -59,17 +59,17 @@ impl Around {
     /// The lanes of `active` whose ray may meet the sphere (see the module notes); `a` is the
     /// rays' `d · d`.
     #[inline(always)]
-    pub(crate) fn near(&self, ray: &RayPacket, a: Lane, active: u32) -> u32 {
+    pub(crate) fn near<L: Lanes>(&self, ray: &RayPacket<L>, a: L, active: u32) -> u32 {
         if active == 0 {
             return 0;
         }
-        let oc: [Lane; 3] = std::array::from_fn(|k| ray.origin[k] - Lane::splat(self.centre[k]));
+        let oc: [L; 3] = each(|k| ray.origin[k] - L::splat(self.centre[k]));
         let oo = dot(&oc, &oc);
         let half_b = dot(&oc, &ray.dir);
-        let wide2 = Lane::splat(self.wide2);
-        let away = (oo - wide2).simd_gt(Lane::ZERO) & half_b.simd_gt(Lane::ZERO);
+        let wide2 = L::splat(self.wide2);
+        let away = (oo - wide2).simd_gt(L::ZERO) & half_b.simd_gt(L::ZERO);
         let oo_a = a * oo;
-        let past = (oo_a - half_b * half_b).simd_gt(a * wide2 + Lane::splat(SLACK) * oo_a);
+        let past = (oo_a - half_b * half_b).simd_gt(a * wide2 + L::splat(SLACK) * oo_a);
         active & !(away | past).to_bitmask()
     }
 }

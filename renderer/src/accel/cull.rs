@@ -21,7 +21,7 @@
 //! a NaN, an origin inside the box) are kept; a world with unbounded instances (infinite
 //! planes) culls nothing.
 
-use super::lanes::{LANES, Lane, RayPacket};
+use super::lanes::{LANES, Lanes, RayPacket};
 use crate::geometry::Bounds;
 
 /// Growth of the box per unit of the scene's size (its diagonal plus its largest coordinate).
@@ -63,17 +63,18 @@ impl CullBox {
     }
 
     /// The lanes of `live` whose ray may hit something (the others surely hit nothing).
-    pub(crate) fn may_hit(&self, ray: &RayPacket, live: u32) -> u32 {
-        let slack = Lane::splat(8.0 * f32::EPSILON * 0.5);
-        let (mut entry, mut exit) = (Lane::ZERO, Lane::splat(f32::INFINITY));
-        let mut decidable = ray.time.simd_ge(Lane::splat(self.shutter.0))
-            & ray.time.simd_le(Lane::splat(self.shutter.1))
-            & ray.t_max.simd_ge(Lane::ZERO);
+    #[inline(always)]
+    pub(crate) fn may_hit<L: Lanes>(&self, ray: &RayPacket<L>, live: u32) -> u32 {
+        let slack = L::splat(8.0 * f32::EPSILON * 0.5);
+        let (mut entry, mut exit) = (L::ZERO, L::splat(f32::INFINITY));
+        let mut decidable = ray.time.simd_ge(L::splat(self.shutter.0))
+            & ray.time.simd_le(L::splat(self.shutter.1))
+            & ray.t_max.simd_ge(L::ZERO);
         for k in 0..3 {
             let (o, d) = (ray.origin[k], ray.dir[k]);
-            decidable &= o.abs().simd_le(Lane::splat(self.origin_limit));
-            let near = (Lane::splat(self.min[k]) - o) / d;
-            let far = (Lane::splat(self.max[k]) - o) / d;
+            decidable &= o.abs().simd_le(L::splat(self.origin_limit));
+            let near = (L::splat(self.min[k]) - o) / d;
+            let far = (L::splat(self.max[k]) - o) / d;
             // NaN (a zero direction with the origin on a face) fails every comparison below
             // and keeps the lane.
             decidable &= !near.is_nan() & !far.is_nan();
@@ -82,8 +83,8 @@ impl CullBox {
         }
         // A miss beyond rounding: entry (>= 0) above exit even after both move by the slack.
         // (Written with products, not `exit + |exit| slack`, which is NaN at `exit = -inf`.)
-        let lo = entry * (Lane::ONE - slack);
-        let hi = (exit * (Lane::ONE + slack)).max(exit * (Lane::ONE - slack));
+        let lo = entry * (L::ONE - slack);
+        let hi = (exit * (L::ONE + slack)).max(exit * (L::ONE - slack));
         let miss = decidable & lo.simd_gt(hi);
         live & !miss.to_bitmask() & ((1 << LANES) - 1)
     }

@@ -7,6 +7,7 @@
 //! result is the scalar one to the bit.
 
 use crate::geometry::Ray;
+pub(crate) use crate::simd::Lanes;
 use glam::{Mat3A, Vec3A};
 
 /// Rays per packet: the lanes of [`Lane`]. (With baseline x86-64's SSE2, `f32x8` is two
@@ -26,43 +27,54 @@ pub type Lane = wide::f32x8;
 /// `docs/benchmarks/lanes.md`); larger worlds were not measured.
 pub const MAX_INSTANCES: usize = 24;
 
+/// `[f(0), f(1), f(2)]`: `std::array::from_fn` for a vector in lanes, always inlined (the
+/// AVX2 form of the packet code needs every lane operation inlined into its entry,
+/// `simd::run_in`, and `from_fn` is not always).
+#[inline(always)]
+pub(crate) fn each<L: Lanes>(f: impl Fn(usize) -> L) -> [L; 3] {
+    [f(0), f(1), f(2)]
+}
+
 /// `m * v` lane by lane in glam's order: `(x_axis v.x + y_axis v.y) + z_axis v.z`.
 #[inline(always)]
-pub(crate) fn mul(m: &Mat3A, v: [Lane; 3]) -> [Lane; 3] {
+pub(crate) fn mul<L: Lanes>(m: &Mat3A, v: [L; 3]) -> [L; 3] {
     let (cx, cy, cz) = (
         m.x_axis.to_array(),
         m.y_axis.to_array(),
         m.z_axis.to_array(),
     );
-    std::array::from_fn(|k| {
-        Lane::splat(cx[k]) * v[0] + Lane::splat(cy[k]) * v[1] + Lane::splat(cz[k]) * v[2]
-    })
+    each(|k| L::splat(cx[k]) * v[0] + L::splat(cy[k]) * v[1] + L::splat(cz[k]) * v[2])
 }
 
 /// glam's SSE2 `Vec3A::dot`, lane by lane.
 #[inline(always)]
-pub(crate) fn dot(a: &[Lane; 3], b: &[Lane; 3]) -> Lane {
+pub(crate) fn dot<L: Lanes>(a: &[L; 3], b: &[L; 3]) -> L {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// All bits set in the lanes of `bits` (bit `i` for lane `i`), clear in the others.
-#[inline(always)]
-pub(crate) fn lane_mask(bits: u32) -> Lane {
-    let bit = wide::i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
-    wide::bytemuck::cast((wide::i32x8::splat(bits as i32) & bit).simd_eq(bit))
 }
 
 /// [`LANES`] rays, lane `i` holding ray `i` (only origin, direction, time and `t_max`: the lanes
 /// traced here all have `t_min = 0`).
 #[derive(Clone, Copy, Debug)]
-pub struct RayPacket {
-    pub(crate) origin: [Lane; 3],
-    pub(crate) dir: [Lane; 3],
-    pub(crate) time: Lane,
-    pub(crate) t_max: Lane,
+pub struct RayPacket<L: Lanes = Lane> {
+    pub(crate) origin: [L; 3],
+    pub(crate) dir: [L; 3],
+    pub(crate) time: L,
+    pub(crate) t_max: L,
 }
 
-impl RayPacket {
+impl<L: Lanes> RayPacket<L> {
+    /// The same rays in lanes of type `M`.
+    #[inline(always)]
+    pub(crate) fn cast<M: Lanes>(&self) -> RayPacket<M> {
+        let v = |c: &[L; 3]| each(|k| M::from_wide(c[k].to_wide()));
+        RayPacket {
+            origin: v(&self.origin),
+            dir: v(&self.dir),
+            time: M::from_wide(self.time.to_wide()),
+            t_max: M::from_wide(self.t_max.to_wide()),
+        }
+    }
+
     /// The lanes of `simple` (not empty); the others repeat one of them, so that no lane
     /// computes with a NaN or a zero direction (their results are dropped anyway).
     #[cfg(test)]
@@ -81,22 +93,21 @@ impl RayPacket {
     /// makes its packets in lanes from the start).
     #[cfg(test)]
     pub fn new(rays: &[Ray; LANES]) -> Self {
-        let lanes = |v: [Vec3A; LANES]| -> [Lane; 3] {
+        let lanes = |v: [Vec3A; LANES]| -> [L; 3] {
             let v = v.map(|v| v.to_array());
-            std::array::from_fn(|k| Lane::new(std::array::from_fn(|i| v[i][k])))
+            std::array::from_fn(|k| L::new(std::array::from_fn(|i| v[i][k])))
         };
         Self {
             origin: lanes(rays.each_ref().map(|r| r.origin)),
             dir: lanes(rays.each_ref().map(|r| r.dir)),
-            time: Lane::new(rays.each_ref().map(|r| r.time)),
-            t_max: Lane::new(rays.each_ref().map(|r| r.t_max)),
+            time: L::new(rays.each_ref().map(|r| r.time)),
+            t_max: L::new(rays.each_ref().map(|r| r.t_max)),
         }
     }
 
     /// Lane `i` as a ray (for the lanes the scalar path takes).
     pub(crate) fn lane(&self, i: usize) -> Ray {
-        let v =
-            |c: &[Lane; 3]| Vec3A::new(c[0].as_array()[i], c[1].as_array()[i], c[2].as_array()[i]);
+        let v = |c: &[L; 3]| Vec3A::new(c[0].as_array()[i], c[1].as_array()[i], c[2].as_array()[i]);
         Ray {
             origin: v(&self.origin),
             dir: v(&self.dir),
@@ -116,6 +127,6 @@ pub(crate) const SLACK: f32 = 64.0 * f32::EPSILON / 2.0;
 
 /// `o + d t` lane by lane ([`Ray::at`]).
 #[inline(always)]
-pub(crate) fn point_at(o: &[Lane; 3], d: &[Lane; 3], t: Lane) -> [Lane; 3] {
-    std::array::from_fn(|k| o[k] + d[k] * t)
+pub(crate) fn point_at<L: Lanes>(o: &[L; 3], d: &[L; 3], t: L) -> [L; 3] {
+    each(|k| o[k] + d[k] * t)
 }

@@ -40,7 +40,7 @@
 //! [`SpinChain::centre`]: super::chain::SpinChain::centre
 
 use super::chain::{OneSpin, Spin};
-use super::lanes::{Lane, MAX_INSTANCES, RayPacket, SLACK, dot, mul};
+use super::lanes::{Lane, Lanes, MAX_INSTANCES, RayPacket, SLACK, dot, each, mul};
 use super::pose::Orbit;
 use glam::{Mat3A, Vec3A};
 use std::cell::Cell;
@@ -277,11 +277,11 @@ impl Orbits {
     /// The lanes of `active` whose ray may pass near group `g`'s spheres (see the module
     /// notes); the others surely miss them all. `a` is the rays' `d · d`.
     #[inline(always)]
-    pub(crate) fn near(
+    pub(crate) fn near<L: Lanes>(
         &self,
         g: usize,
-        ray: &RayPacket,
-        a: Lane,
+        ray: &RayPacket<L>,
+        a: L,
         centres: &Centres,
         active: u32,
     ) -> u32 {
@@ -289,15 +289,16 @@ impl Orbits {
             return 0;
         }
         let group = &self.groups[g];
-        let head = &centres.heads[g];
-        let oc: [Lane; 3] = std::array::from_fn(|k| ray.origin[k] - head[k]);
+        let head = centres.heads[g];
+        let head = &each(|k| L::from_wide(head[k]));
+        let oc: [L; 3] = each(|k| ray.origin[k] - head[k]);
         let cc = dot(&oc, &oc);
         let hb = dot(&oc, &ray.dir);
-        let limit = Lane::splat(group.bound2) + Lane::splat(SLACK) * cc;
+        let limit = L::splat(group.bound2) + L::splat(SLACK) * cc;
         let k = hb / a;
         let d2 = cc - hb * k;
         let past = d2.simd_gt(limit);
-        let away = hb.simd_gt(Lane::ZERO) & cc.simd_gt(limit);
+        let away = hb.simd_gt(L::ZERO) & cc.simd_gt(limit);
         let near = active & !(past | away).to_bitmask();
         if near == 0 {
             return 0;
@@ -311,28 +312,33 @@ impl Group {
     /// notes): `oc = o - h`, `a = d · d`, `k = oc · d / a`, `chord2 = limit - D^2` from the
     /// bound test.
     #[inline(always)]
-    fn beside(
+    fn beside<L: Lanes>(
         &self,
-        oc: &[Lane; 3],
-        d: &[Lane; 3],
-        a: Lane,
-        head: &[Lane; 3],
-        k: Lane,
-        chord2: Lane,
+        oc: &[L; 3],
+        d: &[L; 3],
+        a: L,
+        head: &[L; 3],
+        k: L,
+        chord2: L,
     ) -> u32 {
-        let n = self.axis.map(Lane::splat);
+        let n = self.axis.map(L::splat);
         let dz = dot(&n, d);
         let m = dot(&n, oc) - dz * k;
-        let l1 = |v: &[Lane; 3]| v[0].abs() + v[1].abs() + v[2].abs();
         let far = head[0]
             .abs()
             .fast_max(head[1].abs())
             .fast_max(head[2].abs());
-        let slack = Lane::splat(SLACK);
-        let margin = m.abs() - Lane::splat(self.half_height) - slack * (l1(oc) + far);
+        let slack = L::splat(SLACK);
+        let margin = m.abs() - L::splat(self.half_height) - slack * (l1(oc) + far);
         let tilt = dz.abs() + slack * l1(d);
-        let rise = tilt * tilt * chord2 * Lane::splat(1.0 + 1.0 / 1024.0);
-        let clear = margin.simd_gt(Lane::ZERO) & (margin * margin * a).simd_gt(rise);
+        let rise = tilt * tilt * chord2 * L::splat(1.0 + 1.0 / 1024.0);
+        let clear = margin.simd_gt(L::ZERO) & (margin * margin * a).simd_gt(rise);
         clear.to_bitmask()
     }
+}
+
+/// `|v|_1`, lane by lane.
+#[inline(always)]
+fn l1<L: Lanes>(v: &[L; 3]) -> L {
+    v[0].abs() + v[1].abs() + v[2].abs()
 }

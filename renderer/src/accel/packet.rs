@@ -38,7 +38,7 @@
 use super::Instance;
 use super::around::Around;
 use super::instant::Pose;
-use super::lanes::{Lane, MAX_INSTANCES, RayPacket, SLACK, dot, lane_mask, mul, point_at};
+use super::lanes::{Lane, Lanes, MAX_INSTANCES, RayPacket, SLACK, dot, each, mul, point_at};
 pub(crate) use super::orbits::Centres;
 use super::orbits::Orbits;
 use super::pose::{PoseOverTime, Spins};
@@ -130,7 +130,7 @@ impl SmallPose {
     /// The unit world-space normal of the object-space normal `local`: through the inverse
     /// transpose, normalised, as `World::intersect` does it.
     #[inline(always)]
-    fn world_normal(&self, local: [Lane; 3]) -> [Lane; 3] {
+    fn world_normal<L: Lanes>(&self, local: [L; 3]) -> [L; 3] {
         let world = match self.matrix {
             None => local,
             Some(_) => mul(&self.transposed, local),
@@ -140,17 +140,20 @@ impl SmallPose {
 
     /// The packet's rays in object space: `(origin, dir)` per axis.
     #[inline(always)]
-    fn ray_to_object(&self, ray: &RayPacket, centres: &Centres) -> ([Lane; 3], [Lane; 3]) {
+    fn ray_to_object<L: Lanes>(&self, ray: &RayPacket<L>, centres: &Centres) -> ([L; 3], [L; 3]) {
         let p = self.translation.to_array();
-        let tr: [Lane; 3] = match (self.orbit, self.velocity) {
-            (Some(k), _) => centres.of(k),
-            (None, None) => p.map(Lane::splat),
+        let tr: [L; 3] = match (self.orbit, self.velocity) {
+            (Some(k), _) => {
+                let c = centres.of(k);
+                each(|k| L::from_wide(c[k]))
+            }
+            (None, None) => p.map(L::splat),
             (None, Some(v)) => {
                 let v = v.to_array();
-                std::array::from_fn(|k| Lane::splat(p[k]) + Lane::splat(v[k]) * ray.time)
+                each(|k| L::splat(p[k]) + L::splat(v[k]) * ray.time)
             }
         };
-        let o = std::array::from_fn(|k| ray.origin[k] - tr[k]);
+        let o = each(|k| ray.origin[k] - tr[k]);
         match &self.matrix {
             None => (o, ray.dir),
             Some(m) => (mul(m, o), mul(m, ray.dir)),
@@ -161,7 +164,7 @@ impl SmallPose {
 /// `f32::min` / `f32::max` lane by lane where it matters: a NaN operand gives the other one.
 /// (Which zero two equal zeros give does not matter: a zero is never above `t_min = 0`.)
 #[inline(always)]
-fn min_max(a: Lane, b: Lane) -> (Lane, Lane) {
+fn min_max<L: Lanes>(a: L, b: L) -> (L, L) {
     let a_nan = a.is_nan();
     let min_is_b = b.simd_lt(a) | a_nan;
     let max_is_b = a.simd_lt(b) | a_nan;
@@ -172,17 +175,17 @@ fn min_max(a: Lane, b: Lane) -> (Lane, Lane) {
 /// arithmetic), `+inf` where there is none; only the lanes of `active` need be right. `a` is
 /// `d · d`, worked out once per packet for the spheres that take the rays' own directions.
 #[inline(always)]
-fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], a: Lane, t_max: Lane, active: u32) -> Lane {
-    let r = Lane::splat(radius);
+fn sphere<L: Lanes>(radius: f32, o: &[L; 3], d: &[L; 3], a: L, t_max: L, active: u32) -> L {
+    let r = L::splat(radius);
     let half_b = dot(o, d);
     let oo = dot(o, o);
-    let c = oo - Lane::splat(radius * radius);
+    let c = oo - L::splat(radius * radius);
     // Outside (c > 0) and moving away (half_b > 0): q = -(half_b + sqrt(disc)) < 0, so both
     // roots, q / a and c / q, are negative or -0 and neither is above 0. If every active lane
     // is so, skip the division and the square roots (a shadow ray leaving the sphere).
-    let away = c.simd_gt(Lane::ZERO) & half_b.simd_gt(Lane::ZERO);
+    let away = c.simd_gt(L::ZERO) & half_b.simd_gt(L::ZERO);
     if active & !away.to_bitmask() == 0 {
-        return Lane::splat(f32::INFINITY);
+        return L::splat(f32::INFINITY);
     }
     // Passing clearly outside: the line's squared distance from the centre times `a`,
     // `a |o|^2 - (o·d)^2`, above `a r^2 (1 + 2^-10)^2` by more than its rounding
@@ -190,59 +193,71 @@ fn sphere(radius: f32, o: &[Lane; 3], d: &[Lane; 3], a: Lane, t_max: Lane, activ
     // lane misses ([`SLACK`]). If every active lane passes outside or moves away, skip the rest.
     let oo_a = a * oo;
     let wide = radius * (1.0 + 1.0 / 1024.0);
-    let limit = a * Lane::splat(wide * wide) + Lane::splat(SLACK) * oo_a;
+    let limit = a * L::splat(wide * wide) + L::splat(SLACK) * oo_a;
     let past = (oo_a - half_b * half_b).simd_gt(limit);
     if active & !(away | past).to_bitmask() == 0 {
-        return Lane::splat(f32::INFINITY);
+        return L::splat(f32::INFINITY);
     }
     let k = half_b / a;
-    let foot: [Lane; 3] = std::array::from_fn(|i| o[i] - d[i] * k);
+    let foot: [L; 3] = each(|i| o[i] - d[i] * k);
     let f = dot(&foot, &foot).sqrt();
     let disc = a * ((r - f) * (r + f));
     // `signum`: 1 with half_b's sign (a NaN half_b makes q NaN either way).
-    let ok = a.simd_ne(Lane::ZERO) & a.is_finite() & disc.simd_ge(Lane::ZERO);
+    let ok = a.simd_ne(L::ZERO) & a.is_finite() & disc.simd_ge(L::ZERO);
     if !ok.any() {
         // Every lane misses: skip the roots' square root and two divisions.
-        return Lane::splat(f32::INFINITY);
+        return L::splat(f32::INFINITY);
     }
-    let sign = (half_b & Lane::splat(-0.0)) | Lane::ONE;
+    let sign = (half_b & L::splat(-0.0)) | L::ONE;
     let q = -(half_b + sign * disc.sqrt());
     // q == 0 gives the roots (0, 0) in the scalar code: never above t_min = 0.
-    let ok = ok & q.simd_ne(Lane::ZERO);
+    let ok = ok & q.simd_ne(L::ZERO);
     let (t0, t1) = min_max(q / a, c / q);
-    let in_range = |t: Lane| t.simd_gt(Lane::ZERO) & t.simd_lt(t_max);
-    let (in0, in1) = (in_range(t0), in_range(t1));
-    let t = in0.bitselect(t0, in1.bitselect(t1, Lane::splat(f32::INFINITY)));
-    ok.bitselect(t, Lane::splat(f32::INFINITY))
+    let (in0, in1) = (in_range(t0, t_max), in_range(t1, t_max));
+    let t = in0.bitselect(t0, in1.bitselect(t1, L::splat(f32::INFINITY)));
+    ok.bitselect(t, L::splat(f32::INFINITY))
+}
+
+/// The lanes where `t` is in `(0, t_max)`.
+#[inline(always)]
+fn in_range<L: Lanes>(t: L, t_max: L) -> L {
+    t.simd_gt(L::ZERO) & t.simd_lt(t_max)
+}
+
+/// The lanes where every component of `v` is finite.
+#[inline(always)]
+fn finite<L: Lanes>(v: &[L; 3]) -> L {
+    v[0].is_finite() & v[1].is_finite() & v[2].is_finite()
 }
 
 /// The plane y = 0 per lane ([`crate::geometry::Plane::closest`]'s arithmetic), `+inf` where
 /// it is missed; only the lanes of `active` need be right.
 #[inline(always)]
-fn plane(half: Option<(f32, f32)>, o: &[Lane; 3], d: &[Lane; 3], t_max: Lane, active: u32) -> Lane {
+fn plane<L: Lanes>(half: Option<(f32, f32)>, o: &[L; 3], d: &[L; 3], t_max: L, active: u32) -> L {
     // t = -o.y / d.y is above 0 only where o.y and d.y are non-zero with opposite signs
     // (else it is negative, a zero or NaN): if no active lane is so, skip the division (a
     // shadow ray leaving the plane, a camera ray looking up).
     let (oy, dy) = (o[1], d[1]);
-    let towards = (oy.simd_lt(Lane::ZERO) & dy.simd_gt(Lane::ZERO))
-        | (oy.simd_gt(Lane::ZERO) & dy.simd_lt(Lane::ZERO));
+    let towards =
+        (oy.simd_lt(L::ZERO) & dy.simd_gt(L::ZERO)) | (oy.simd_gt(L::ZERO) & dy.simd_lt(L::ZERO));
     if active & towards.to_bitmask() == 0 {
-        return Lane::splat(f32::INFINITY);
+        return L::splat(f32::INFINITY);
     }
     let t = -o[1] / d[1];
     // A zero d.y gives an infinite or NaN t, which fails the range test anyway.
-    let mut ok = d[1].simd_ne(Lane::ZERO) & t.simd_gt(Lane::ZERO) & t.simd_lt(t_max);
+    let mut ok = d[1].simd_ne(L::ZERO) & t.simd_gt(L::ZERO) & t.simd_lt(t_max);
     if let Some((hx, hz)) = half {
         let px = o[0] + d[0] * t;
         let pz = o[2] + d[2] * t;
-        ok = ok & px.abs().simd_le(Lane::splat(hx)) & pz.abs().simd_le(Lane::splat(hz));
+        ok = ok & px.abs().simd_le(L::splat(hx)) & pz.abs().simd_le(L::splat(hz));
     }
-    ok.bitselect(t, Lane::splat(f32::INFINITY))
+    ok.bitselect(t, L::splat(f32::INFINITY))
 }
 
 /// The lanes as vectors.
 #[cfg(test)]
-fn lanes_of(v: &[Lane; 3]) -> [Vec3A; LANES] {
+#[inline(always)]
+fn lanes_of<L: Lanes>(v: &[L; 3]) -> [Vec3A; LANES] {
     let [x, y, z] = v.map(|c| c.to_array());
     std::array::from_fn(|i| Vec3A::new(x[i], y[i], z[i]))
 }
@@ -250,10 +265,10 @@ fn lanes_of(v: &[Lane; 3]) -> [Vec3A; LANES] {
 /// glam's `normalize_or_zero` lane by lane: `v * (1 / sqrt(v.v))` where that factor is finite
 /// and positive, else zero.
 #[inline(always)]
-fn normalize_or_zero(v: [Lane; 3]) -> [Lane; 3] {
-    let rcp = Lane::ONE / dot(&v, &v).sqrt();
-    let ok = rcp.is_finite() & rcp.simd_gt(Lane::ZERO);
-    v.map(|c| ok.bitselect(c * rcp, Lane::ZERO))
+fn normalize_or_zero<L: Lanes>(v: [L; 3]) -> [L; 3] {
+    let rcp = L::ONE / dot(&v, &v).sqrt();
+    let ok = rcp.is_finite() & rcp.simd_gt(L::ZERO);
+    each(|k| ok.bitselect(v[k] * rcp, L::ZERO))
 }
 
 impl SmallShape {
@@ -261,20 +276,20 @@ impl SmallShape {
     /// normal alike for spheres and planes): the object-space normal ([`Shape::surface`]),
     /// through the inverse transpose, normalised, as `World::intersect` does it.
     #[inline(always)]
-    fn world_normal(&self, ray: &RayPacket, t: Lane, centres: &Centres) -> [Lane; 3] {
+    fn world_normal<L: Lanes>(&self, ray: &RayPacket<L>, t: L, centres: &Centres) -> [L; 3] {
         match self.kind {
             Kind::Sphere { .. } => {
                 let (o, d) = self.pose.ray_to_object(ray, centres);
                 self.pose.world_normal(point_at(&o, &d, t))
             }
-            Kind::Plane { .. } => self.plane_normal.map(Lane::splat),
+            Kind::Plane { .. } => self.plane_normal.map(L::splat),
         }
     }
 
     /// Each lane's nearest hit in `(0, t_max)`, `+inf` for none; only the lanes of `active`
     /// need be right. `dd` is the rays' `d · d`.
     #[inline(always)]
-    fn closest(&self, ray: &RayPacket, dd: Lane, active: u32, centres: &Centres) -> Lane {
+    fn closest<L: Lanes>(&self, ray: &RayPacket<L>, dd: L, active: u32, centres: &Centres) -> L {
         let (o, d) = self.pose.ray_to_object(ray, centres);
         match self.kind {
             Kind::Sphere { radius } => {
@@ -380,8 +395,10 @@ impl SmallWorld {
         lanes & live
     }
 
-    /// `World::intersect` for each live lane (bit `i` of `live`); `None` for the others.
-    pub fn intersect_lanes(
+    /// `World::intersect` for each live lane (bit `i` of `live`), in lanes of type `L`;
+    /// `None` for the others.
+    #[inline(always)]
+    pub fn intersect_lanes<L: Lanes>(
         &self,
         world: &World,
         rays: &[Ray; LANES],
@@ -391,8 +408,8 @@ impl SmallWorld {
         let mut out = [None; LANES];
         let mut scalar = live & !simple;
         if simple != 0 {
-            let packet = RayPacket::of(rays, simple);
-            let centres = self.centres(packet.time);
+            let packet = RayPacket::<L>::of(rays, simple);
+            let centres = self.centres(packet.time.to_wide());
             let nearest = self.nearest(&packet, simple, &centres);
             scalar |= self.surfaces(&packet, &nearest, simple, &centres, &mut out);
         }
@@ -407,10 +424,11 @@ impl SmallWorld {
     /// The world-space hits of the lanes of `simple` that hit one instance first
     /// (`World::intersect`'s last step), one instance at a time for the lanes it won;
     /// returns the lanes with a tie, left to the scalar path.
-    fn surfaces(
+    #[inline(always)]
+    fn surfaces<L: Lanes>(
         &self,
-        ray: &RayPacket,
-        nearest: &Nearest,
+        ray: &RayPacket<L>,
+        nearest: &Nearest<L>,
         simple: u32,
         centres: &Centres,
         out: &mut [Option<SurfaceHit>; LANES],
@@ -445,14 +463,21 @@ impl SmallWorld {
         tie
     }
 
-    /// `World::occluded` for each live lane (bit `i` of `live`); `false` for the others.
-    pub fn occluded_lanes(&self, world: &World, rays: &[Ray; LANES], live: u32) -> [bool; LANES] {
+    /// `World::occluded` for each live lane (bit `i` of `live`), in lanes of type `L`; `false`
+    /// for the others.
+    #[inline(always)]
+    pub fn occluded_lanes<L: Lanes>(
+        &self,
+        world: &World,
+        rays: &[Ray; LANES],
+        live: u32,
+    ) -> [bool; LANES] {
         let simple = Self::simple_lanes(world, rays, live);
         let blocked = match simple {
             0 => 0,
             _ => {
-                let packet = RayPacket::of(rays, simple);
-                self.blocked(&packet, simple, &self.centres(packet.time))
+                let packet = RayPacket::<L>::of(rays, simple);
+                self.blocked(&packet, simple, &self.centres(packet.time.to_wide()))
             }
         };
         std::array::from_fn(|i| {
@@ -473,12 +498,15 @@ impl SmallWorld {
     /// path of a world with this `shutter` (`World::shutter`) does: `simple` (the tests' scalar
     /// specification) in lanes (every packet ray has `t_min = 0`).
     #[inline(always)]
-    pub(crate) fn simple_packet(shutter: (f32, f32), ray: &RayPacket, live: u32) -> u32 {
-        let finite = |v: &[Lane; 3]| v[0].is_finite() & v[1].is_finite() & v[2].is_finite();
+    pub(crate) fn simple_packet<L: Lanes>(
+        shutter: (f32, f32),
+        ray: &RayPacket<L>,
+        live: u32,
+    ) -> u32 {
         let d = &ray.dir;
-        let zero = d[0].simd_eq(Lane::ZERO) & d[1].simd_eq(Lane::ZERO) & d[2].simd_eq(Lane::ZERO);
+        let zero = d[0].simd_eq(L::ZERO) & d[1].simd_eq(L::ZERO) & d[2].simd_eq(L::ZERO);
         let (t0, t1) = shutter;
-        let in_shutter = ray.time.simd_ge(Lane::splat(t0)) & ray.time.simd_le(Lane::splat(t1));
+        let in_shutter = ray.time.simd_ge(L::splat(t0)) & ray.time.simd_le(L::splat(t1));
         let t_max_ok = ray.t_max.simd_eq(ray.t_max);
         let ok = finite(&ray.origin) & finite(d) & in_shutter & t_max_ok;
         ok.to_bitmask() & !zero.to_bitmask() & live
@@ -486,8 +514,13 @@ impl SmallWorld {
 
     /// Each lane's nearest hit over every instance, right for the lanes of `simple` (from
     /// [`SmallWorld::simple_packet`]).
-    #[inline]
-    pub(crate) fn nearest(&self, ray: &RayPacket, simple: u32, centres: &Centres) -> Nearest {
+    #[inline(always)]
+    pub(crate) fn nearest<L: Lanes>(
+        &self,
+        ray: &RayPacket<L>,
+        simple: u32,
+        centres: &Centres,
+    ) -> Nearest<L> {
         let mut nearest = Nearest::new();
         let dd = dot(&ray.dir, &ray.dir);
         for &i in &self.loose {
@@ -506,7 +539,7 @@ impl SmallWorld {
                     continue;
                 }
                 let t = self.shapes[i as usize].closest(ray, dd, lanes, centres);
-                nearest.add(lane_mask(lanes).bitselect(t, Lane::splat(f32::INFINITY)), i);
+                nearest.add(L::lane_mask(lanes).bitselect(t, L::splat(f32::INFINITY)), i);
             }
         }
         nearest
@@ -514,11 +547,18 @@ impl SmallWorld {
 
     /// The lanes of `active` whose ray may meet instance `i` over the shutter ([`Around`]).
     #[inline(always)]
-    fn near(&self, i: u32, ray: &RayPacket, dd: Lane, active: u32) -> u32 {
+    fn near<L: Lanes>(&self, i: u32, ray: &RayPacket<L>, dd: L, active: u32) -> u32 {
         match &self.around[i as usize] {
             Some(around) => around.near(ray, dd, active),
             None => active,
         }
+    }
+
+    /// The lanes of `active` whose ray hits instance `i` (`dd` the rays' `d · d`).
+    #[inline(always)]
+    fn hits<L: Lanes>(&self, i: u32, ray: &RayPacket<L>, dd: L, active: u32, c: &Centres) -> u32 {
+        let t = self.shapes[i as usize].closest(ray, dd, active, c);
+        t.simd_lt(L::splat(f32::INFINITY)).to_bitmask() & active
     }
 
     /// Instance `i`'s material.
@@ -530,27 +570,29 @@ impl SmallWorld {
     /// The unit world-space normal of instance `i` at parameter `t` of each lane's ray, as
     /// `World::intersect` gives it (geometric and shading normal alike).
     #[inline]
-    pub(crate) fn normal(
+    pub(crate) fn normal<L: Lanes>(
         &self,
         i: usize,
-        ray: &RayPacket,
-        t: Lane,
+        ray: &RayPacket<L>,
+        t: L,
         centres: &Centres,
-    ) -> [Lane; 3] {
+    ) -> [L; 3] {
         self.shapes[i].world_normal(ray, t, centres)
     }
 
     /// `World::occluded` for the lanes of `simple` (from [`SmallWorld::simple_packet`]):
     /// the lanes blocked.
-    #[inline]
-    pub(crate) fn blocked(&self, ray: &RayPacket, simple: u32, centres: &Centres) -> u32 {
+    #[inline(always)]
+    pub(crate) fn blocked<L: Lanes>(
+        &self,
+        ray: &RayPacket<L>,
+        simple: u32,
+        centres: &Centres,
+    ) -> u32 {
         let mut blocked = 0;
         let dd = dot(&ray.dir, &ray.dir);
         // Only the lanes not yet blocked need an answer.
-        let hits = |i: u32, active: u32| {
-            let t = self.shapes[i as usize].closest(ray, dd, active, centres);
-            t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask() & active
-        };
+        let hits = |i: u32, active: u32| self.hits(i, ray, dd, active, centres);
         for &i in &self.loose {
             blocked |= hits(i, simple & !blocked);
             if blocked & simple == simple {
@@ -591,40 +633,41 @@ fn simple(world: &World, ray: &Ray) -> bool {
 /// The running nearest hit per lane: its `t` (`+inf` for none), its instance (an index, as
 /// an `f32`: exact, and compared in lanes), and whether another instance gave exactly the
 /// same `t`.
-pub(crate) struct Nearest {
-    pub(crate) t: Lane,
-    pub(crate) tie: Lane,
-    pub(crate) instance: Lane,
+pub(crate) struct Nearest<L: Lanes = Lane> {
+    pub(crate) t: L,
+    pub(crate) tie: L,
+    pub(crate) instance: L,
 }
 
-impl Nearest {
+impl<L: Lanes> Nearest<L> {
+    #[inline(always)]
     fn new() -> Self {
         Self {
-            t: Lane::splat(f32::INFINITY),
-            tie: Lane::ZERO,
-            instance: Lane::ZERO,
+            t: L::splat(f32::INFINITY),
+            tie: L::ZERO,
+            instance: L::ZERO,
         }
     }
 
     #[inline(always)]
-    fn add(&mut self, t: Lane, instance: u32) {
+    fn add(&mut self, t: L, instance: u32) {
         let closer = t.simd_lt(self.t);
-        let same = t.simd_eq(self.t) & t.simd_lt(Lane::splat(f32::INFINITY));
-        self.tie = closer.bitselect(Lane::ZERO, self.tie) | same;
+        let same = t.simd_eq(self.t) & t.simd_lt(L::splat(f32::INFINITY));
+        self.tie = closer.bitselect(L::ZERO, self.tie) | same;
         self.t = closer.bitselect(t, self.t);
-        self.instance = closer.bitselect(Lane::splat(instance as f32), self.instance);
+        self.instance = closer.bitselect(L::splat(instance as f32), self.instance);
     }
 
     /// The lanes whose nearest hit is instance `i`'s (whether or not they hit at all).
     #[inline(always)]
-    pub(crate) fn is(&self, i: usize) -> Lane {
-        self.instance.simd_eq(Lane::splat(i as f32))
+    pub(crate) fn is(&self, i: usize) -> L {
+        self.instance.simd_eq(L::splat(i as f32))
     }
 
     /// The lanes (bit `i` for lane `i`) that hit something.
     #[inline(always)]
     pub(crate) fn hit(&self) -> u32 {
-        self.t.simd_lt(Lane::splat(f32::INFINITY)).to_bitmask()
+        self.t.simd_lt(L::splat(f32::INFINITY)).to_bitmask()
     }
 }
 
@@ -832,6 +875,23 @@ mod tests {
 
     #[test]
     fn packets_match_the_scalar_world_bit_for_bit() {
+        packets_match::<crate::simd::Sse2>();
+    }
+
+    /// The same in AVX2 lanes, where this CPU has AVX2 (called outside the AVX2 entry: each
+    /// operation a call, the same bits).
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn avx2_packets_match_the_scalar_world_bit_for_bit() {
+        if !std::is_x86_feature_detected!("avx2") {
+            eprintln!("skipped: this CPU has no AVX2");
+            return;
+        }
+        packets_match::<crate::simd::Avx2>();
+    }
+
+    #[inline(always)]
+    fn packets_match<L: Lanes>() {
         let (mut rays_traced, mut hits, mut blocked, mut orbits) = (0, 0, 0, 0);
         for w in 0..300u64 {
             let mut d = Draw(HashRng::new(0x9ac7e7, &[w]));
@@ -848,17 +908,20 @@ mod tests {
                     std::array::from_fn(|_| random_ray(&mut d, &world, offset));
                 let all = (1u32 << LANES) - 1;
                 let live = (d.pick(u64::from(all) + 1) as u32) | if g % 2 == 0 { all } else { 0 };
-                let got = small.intersect_lanes(&world, &rays, live);
+                let got = small.intersect_lanes::<L>(&world, &rays, live);
                 // The packet API's test in lanes (for its rays: `t_min = 0`).
                 let packet_rays =
                     (0..LANES).fold(0, |m, i| m | u32::from(rays[i].t_min == 0.0) << i);
                 assert_eq!(
-                    SmallWorld::simple_packet(world.shutter(), &RayPacket::new(&rays), live)
-                        & packet_rays,
+                    SmallWorld::simple_packet(
+                        world.shutter(),
+                        &RayPacket::<Lane>::new(&rays),
+                        live
+                    ) & packet_rays,
                     SmallWorld::simple_lanes(&world, &rays, live) & packet_rays,
                     "world {w}, group {g}"
                 );
-                let occ = small.occluded_lanes(&world, &rays, live);
+                let occ = small.occluded_lanes::<L>(&world, &rays, live);
                 for i in 0..LANES {
                     if live & (1 << i) == 0 {
                         assert!(got[i].is_none() && !occ[i]);

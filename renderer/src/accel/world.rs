@@ -16,7 +16,7 @@
 
 use super::cull::CullBox;
 use super::instant::Pose;
-use super::lanes::RayPacket;
+use super::lanes::{Lanes, RayPacket};
 use super::packet::SmallWorld;
 use super::pose::{PoseCache, PoseOverTime, Spins};
 use super::slices::{SLICES, Slices};
@@ -137,8 +137,8 @@ impl World {
 
     /// The lanes of `live` whose ray may hit something: the others' rays surely hit nothing
     /// ([`CullBox`]; with no box, all of `live`).
-    #[inline]
-    pub fn may_hit_lanes(&self, ray: &RayPacket, live: u32) -> u32 {
+    #[inline(always)]
+    pub fn may_hit_lanes<L: Lanes>(&self, ray: &RayPacket<L>, live: u32) -> u32 {
         match &self.cull {
             Some(c) => c.may_hit(ray, live),
             None => live,

@@ -17,49 +17,50 @@
 //! degenerate ones included.
 
 use super::{Environment, PI, wrap_column};
-use crate::accel::lanes::{LANES, Lane, dot, lane_mask};
+#[cfg(test)]
+use crate::accel::lanes::Lane;
+use crate::accel::lanes::{LANES, Lanes, dot, each};
 use crate::math;
 
 /// A vector per lane.
-type V3 = [Lane; 3];
+type V3<L> = [L; 3];
 
 impl Environment {
     /// [`Environment::radiance`] of lane `i`'s direction `d` for each lane `i` whose bit is set
     /// in `live`; zero in the others.
-    pub fn radiance_lanes(&self, d: &V3, live: u32) -> V3 {
-        let (c, s) = (Lane::splat(self.turn.0), Lane::splat(self.turn.1));
+    #[inline(always)]
+    pub fn radiance_lanes<L: Lanes>(&self, d: &V3<L>, live: u32) -> V3<L> {
+        let (c, s) = (L::splat(self.turn.0), L::splat(self.turn.1));
         // Undo the map's turn about +y.
         let x = d[0] * c - d[2] * s;
         let z = d[0] * s + d[2] * c;
         let len = dot(d, d).sqrt();
-        let defined = (len.simd_gt(Lane::ZERO) & len.is_finite()).to_bitmask();
+        let defined = (len.simd_gt(L::ZERO) & len.is_finite()).to_bitmask();
         let live = live & defined;
         // Where `len` is positive and finite every component is finite: no NaN to clamp.
-        let cos = (d[1] / len).fast_max(-Lane::ONE).fast_min(Lane::ONE);
+        let cos = (d[1] / len).fast_max(-L::ONE).fast_min(L::ONE);
         // The other lanes' angles are 0, so their weights stay finite and their zero texels
         // interpolate to zero.
-        let keep = lane_mask(live);
-        let azimuth = keep.bitselect(math::atan2_lanes(x, -z), Lane::ZERO);
-        let polar = keep.bitselect(math::acos_lanes(cos), Lane::ZERO);
-        let u = azimuth * Lane::splat(0.5 / PI) + Lane::splat(0.5);
-        let v = polar * Lane::splat(1.0 / PI);
+        let keep = L::lane_mask(live);
+        let azimuth = keep.bitselect(math::atan2_lanes(x, -z), L::ZERO);
+        let polar = keep.bitselect(math::acos_lanes(cos), L::ZERO);
+        let u = azimuth * L::splat(0.5 / PI) + L::splat(0.5);
+        let v = polar * L::splat(1.0 / PI);
         let rgb = self.bilinear_lanes(u, v, live);
-        rgb.map(|c| c * Lane::splat(self.intensity))
+        each(|k| rgb[k] * L::splat(self.intensity))
     }
 
     /// [`Environment::bilinear`] in lanes, for the lanes of `live` (zero in the others).
-    fn bilinear_lanes(&self, u: Lane, v: Lane, live: u32) -> V3 {
+    #[inline(always)]
+    fn bilinear_lanes<L: Lanes>(&self, u: L, v: L, live: u32) -> V3<L> {
         let (w, h) = (self.width as f32, self.height as f32);
-        let fx = u * Lane::splat(w) - Lane::splat(0.5);
-        let fy = (v * Lane::splat(h) - Lane::splat(0.5))
-            .fast_max(Lane::ZERO)
-            .fast_min(Lane::splat((self.height - 1) as f32));
+        let fx = u * L::splat(w) - L::splat(0.5);
+        let fy = (v * L::splat(h) - L::splat(0.5))
+            .fast_max(L::ZERO)
+            .fast_min(L::splat((self.height - 1) as f32));
         let (x0, y0) = (floor(fx), floor(fy));
         let (ax, ay) = (fx - x0, fy - y0);
         let texels = self.corner_texels(&x0.to_array(), &y0.to_array(), live);
-        let lerp = |a: &V3, b: &V3, s: Lane| -> V3 {
-            std::array::from_fn(|k| a[k] * (Lane::ONE - s) + b[k] * s)
-        };
         let [t00, t01, t10, t11] = &texels;
         let top = lerp(t00, t01, ax);
         let bottom = lerp(t10, t11, ax);
@@ -70,7 +71,12 @@ impl Environment {
     /// rows `y0`, `y0 + 1` clamped): top left, top right, bottom left, bottom right, per
     /// channel in lanes; zero in the other lanes.
     #[inline(always)]
-    fn corner_texels(&self, x0: &[f32; LANES], y0: &[f32; LANES], live: u32) -> [V3; 4] {
+    fn corner_texels<L: Lanes>(
+        &self,
+        x0: &[f32; LANES],
+        y0: &[f32; LANES],
+        live: u32,
+    ) -> [V3<L>; 4] {
         let mut at = [[0usize; LANES]; 4];
         let col = |x: i64| wrap_column(x, self.width);
         for i in (0..LANES).filter(|i| live & (1 << i) != 0) {
@@ -92,11 +98,17 @@ impl Environment {
 /// less where it rounded up, the sign of a zero kept), the value itself above (every f32
 /// there is an integer already; infinity and NaN stay what they are).
 #[inline(always)]
-fn floor(x: Lane) -> Lane {
-    let t = x.fast_trunc_int().round_float();
-    let t = t.simd_gt(x).bitselect(t - Lane::ONE, t);
-    let t = t.simd_eq(Lane::ZERO).bitselect(x * Lane::ZERO, t);
-    x.abs().simd_lt(Lane::splat(8_388_608.0)).bitselect(t, x)
+fn floor<L: Lanes>(x: L) -> L {
+    let t = x.trunc_through_int();
+    let t = t.simd_gt(x).bitselect(t - L::ONE, t);
+    let t = t.simd_eq(L::ZERO).bitselect(x * L::ZERO, t);
+    x.abs().simd_lt(L::splat(8_388_608.0)).bitselect(t, x)
+}
+
+/// `Vec3::lerp` lane by lane: `a (1 - s) + b s`.
+#[inline(always)]
+fn lerp<L: Lanes>(a: &V3<L>, b: &V3<L>, s: L) -> V3<L> {
+    each(|k| a[k] * (L::ONE - s) + b[k] * s)
 }
 
 #[cfg(test)]

@@ -16,13 +16,13 @@
 //! bit as from the `f32` texels. Any other map (OpenEXR's half floats, repaired values, `-0.0`)
 //! stays in `f32`.
 
-use crate::accel::lanes::{LANES, Lane};
+use crate::accel::lanes::{LANES, Lane, Lanes};
 use glam::Vec3;
 use rayon::prelude::*;
 use wide::i32x8;
 
 /// A vector per lane.
-type V3 = [Lane; 3];
+type V3<L = Lane> = [L; 3];
 
 #[derive(Clone, Debug)]
 pub(super) enum Texels {
@@ -148,7 +148,7 @@ impl Texels {
     /// The texels at `at[corner][lane]` for the lanes of `live`, per corner and channel in
     /// lanes; zero in the other lanes.
     #[inline(always)]
-    pub(super) fn gather(&self, at: &[[usize; LANES]; 4], live: u32) -> [V3; 4] {
+    pub(super) fn gather<L: Lanes>(&self, at: &[[usize; LANES]; 4], live: u32) -> [V3<L>; 4] {
         let live_lanes = (0..LANES).filter(|i| live & (1 << i) != 0);
         match self {
             Texels::Floats(f) => {
@@ -161,7 +161,7 @@ impl Texels {
                         }
                     }
                 }
-                t.map(|corner| corner.map(Lane::new))
+                t.map(|corner| corner.map(L::new))
             }
             Texels::Packed(w) => {
                 // A dead lane's word: m = 0 at a normal scale, zero in every channel.
@@ -171,7 +171,8 @@ impl Texels {
                         corner[i] = w[at[i]] as i32;
                     }
                 }
-                words.map(|corner| decode_lanes(i32x8::new(corner)))
+                // In `wide`'s lanes (integer AVX2 lanes would gain little here).
+                words.map(|corner| decode_lanes(i32x8::new(corner)).map(L::from_wide))
             }
         }
     }
@@ -311,7 +312,7 @@ mod tests {
                     std::array::from_fn(|i| (hash(23, &[n, c as u64, i as u64]) % 64) as usize)
                 });
                 let live = (unit_f32(hash(24, &[n])) * 256.0) as u32 & 0xff;
-                let got = texels.gather(&at, live);
+                let got = texels.gather::<Lane>(&at, live);
                 for (corner, at) in got.iter().zip(&at) {
                     for (i, &at) in at.iter().enumerate() {
                         let want = match live & (1 << i) {

@@ -1,13 +1,14 @@
 //! The inverse trigonometric functions in lanes (see the module notes of [`super`]).
 
+use crate::simd::Lanes;
 use wide::f32x8;
 
 /// atan2(y, x) of eight (y, x) at once, in [-pi, pi] (`wide`'s `f32x8::atan2`: the pair
 /// folded into the first octant, t = min / max, (t - 1) / (t + 1) above tan(pi/8), a degree-9
 /// odd polynomial, unfolded). Signed zeros as libm: atan2(+-0, +0) = +-0, atan2(+-0, -0) =
 /// +-pi. For finite inputs (the environment's directions are).
-#[inline]
-pub fn atan2_lanes(y: f32x8, x: f32x8) -> f32x8 {
+#[inline(always)]
+pub fn atan2_lanes<L: Lanes>(y: L, x: L) -> L {
     y.atan2(x)
 }
 
@@ -19,8 +20,8 @@ pub fn atan2(y: f32, x: f32) -> f32 {
 
 /// acos x of eight x in [-1, 1] at once, in [0, pi] (`wide`'s `f32x8::acos`: for |x| >= 1/2
 /// 2 asin(sqrt((1 - |x|) / 2)), else pi/2 - asin x, asin by a degree-9 odd polynomial).
-#[inline]
-pub fn acos_lanes(x: f32x8) -> f32x8 {
+#[inline(always)]
+pub fn acos_lanes<L: Lanes>(x: L) -> L {
     x.acos()
 }
 

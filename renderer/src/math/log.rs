@@ -1,12 +1,13 @@
 //! The natural logarithm in lanes (see the module notes of [`super`]).
 
+use crate::simd::Lanes;
 use wide::f32x8;
 
 /// ln x of eight positive x at once (`wide`'s `f32x8::ln`: x = m 2^e with m in
 /// [sqrt(1/2), sqrt(2)), a degree-8 polynomial in m - 1, e ln 2 added in two parts). Zero
 /// gives -infinity, a negative x NaN.
-#[inline]
-pub fn ln_lanes(x: f32x8) -> f32x8 {
+#[inline(always)]
+pub fn ln_lanes<L: Lanes>(x: L) -> L {
     x.ln()
 }
 

@@ -1,12 +1,13 @@
 //! Sine and cosine in lanes (see the module notes of [`super`]).
 
+use crate::simd::Lanes;
 use wide::f32x8;
 
 /// (sin x, cos x) of eight x at once (`wide`'s `f32x8::sin_cos`: x reduced by the nearest
 /// multiple of pi/2 in three parts (Cody-Waite), degree-7 and -8 polynomials on
 /// [-pi/4, pi/4], swapped and signed by the quadrant). Infinity and NaN give NaN.
-#[inline]
-pub fn sin_cos_lanes(x: f32x8) -> (f32x8, f32x8) {
+#[inline(always)]
+pub fn sin_cos_lanes<L: Lanes>(x: L) -> (L, L) {
     x.sin_cos()
 }
 

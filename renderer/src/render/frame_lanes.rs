@@ -16,20 +16,20 @@
 //!
 //! [`CameraFrame::look_at`]: crate::camera::CameraFrame::look_at
 
-use crate::accel::lanes::{LANES, Lane, dot};
+use crate::accel::lanes::{LANES, Lanes, dot, each};
 use crate::camera::{Camera, Moving};
 
 /// A vector per lane.
-type V3 = [Lane; 3];
+type V3<L = crate::accel::lanes::Lane> = [L; 3];
 
 /// The frames of `camera` at the times `time` per lane: eye, forward, right, up (per axis, in
 /// lanes), and the lanes where the frame is defined (bit `i` for lane `i`).
-#[inline]
-pub(super) fn frames_at(camera: &Camera, time: Lane) -> ([V3; 4], u32) {
+#[inline(always)]
+pub(super) fn frames_at<L: Lanes>(camera: &Camera, time: L) -> ([V3<L>; 4], u32) {
     let eye = at(&camera.location, time);
     let target = at(&camera.look_at, time);
     let up = at(&camera.up, time);
-    let (forward, has_forward) = try_normalize(std::array::from_fn(|k| target[k] - eye[k]));
+    let (forward, has_forward) = try_normalize(each(|k| target[k] - eye[k]));
     let (right, has_right) = try_normalize(cross(&forward, &up));
     let up = cross(&right, &forward);
     let defined = (has_forward & has_right).to_bitmask() & ((1 << LANES) - 1);
@@ -38,22 +38,22 @@ pub(super) fn frames_at(camera: &Camera, time: Lane) -> ([V3; 4], u32) {
 
 /// [`Moving::at`] in lanes.
 #[inline(always)]
-fn at(m: &Moving, time: Lane) -> V3 {
+fn at<L: Lanes>(m: &Moving, time: L) -> V3<L> {
     let (p, v) = (m.at_zero.to_array(), m.velocity.to_array());
-    std::array::from_fn(|k| Lane::splat(p[k]) + Lane::splat(v[k]) * time)
+    each(|k| L::splat(p[k]) + L::splat(v[k]) * time)
 }
 
 /// glam's `Vec3A::try_normalize` in lanes: the unit vector, and where it exists.
 #[inline(always)]
-fn try_normalize(v: V3) -> (V3, Lane) {
-    let rcp = Lane::ONE / dot(&v, &v).sqrt();
-    let ok = rcp.is_finite() & rcp.simd_gt(Lane::ZERO);
-    (v.map(|c| c * rcp), ok)
+fn try_normalize<L: Lanes>(v: V3<L>) -> (V3<L>, L) {
+    let rcp = L::ONE / dot(&v, &v).sqrt();
+    let ok = rcp.is_finite() & rcp.simd_gt(L::ZERO);
+    (each(|k| v[k] * rcp), ok)
 }
 
 /// glam's `Vec3A::cross` in lanes.
 #[inline(always)]
-fn cross(a: &V3, b: &V3) -> V3 {
+fn cross<L: Lanes>(a: &V3<L>, b: &V3<L>) -> V3<L> {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -100,7 +100,7 @@ mod tests {
                 continue;
             };
             let times = std::array::from_fn(|k| h(i, 30 + k as u64) * 0.1);
-            let (frames, defined) = frames_at(&camera, Lane::new(times));
+            let (frames, defined) = frames_at(&camera, crate::accel::lanes::Lane::new(times));
             for (k, &t) in times.iter().enumerate() {
                 let lane = |v: &V3| v.map(|c| c.as_array()[k].to_bits());
                 match camera.frame_at(t) {

@@ -18,6 +18,7 @@ use crate::sampling::PixelSampler;
 use crate::sampling::{FrameSampler, SamplingConfig};
 use crate::scene::Scene;
 use crate::shading::Tracer;
+use crate::simd::{self, Width};
 use anyhow::Result;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -56,19 +57,20 @@ pub fn render_frame(
     frame: u32,
     progress: &dyn Progress,
 ) -> Result<(Film, FrameStats)> {
-    render_frame_on(scene, sampling, seed, frame, progress, true)
+    render_frame_on(scene, sampling, seed, frame, progress, Some(simd::widest()))
 }
 
-/// [`render_frame`], tracing [`LANES`](crate::accel::lanes::LANES) samples at once only if
-/// `packets` (camera rays in lanes; shaded in lanes where the world has a packet form,
-/// [`World::small`]); the scalar path gives the same bytes (the tests compare the two).
+/// [`render_frame`], tracing [`LANES`](crate::accel::lanes::LANES) samples at once in lanes of
+/// width `packets` if some (camera rays in lanes; shaded in lanes where the world has a packet
+/// form, [`World::small`]), else one at a time; every way gives the same bytes (the tests
+/// compare them).
 pub(crate) fn render_frame_on(
     scene: &Scene,
     sampling: &SamplingConfig,
     seed: u64,
     frame: u32,
     progress: &dyn Progress,
-    packets: bool,
+    packets: Option<Width>,
 ) -> Result<(Film, FrameStats)> {
     let sampler = FrameSampler::new(sampling, seed, frame)?;
     let shutter = scene.settings.shutter(frame);
@@ -111,11 +113,11 @@ pub(crate) fn render_frame_on(
 }
 
 /// Trace every sample of the pixels `x0..x0 + span.len()` of row `y` into `span`, [`LANES`]
-/// at a time if `packets` (shaded in lanes where the world has a packet form, [`World::small`],
+/// at a time in lanes of width `packets` if some (shaded in lanes where the world has a packet form, [`World::small`],
 /// else lane by lane); returns the samples traced and how many were not finite.
 fn render_span(
     tracer: &Tracer,
-    packets: bool,
+    packets: Option<Width>,
     sampler: &FrameSampler,
     shutter: (f32, f32),
     x0: u32,
@@ -131,11 +133,20 @@ fn render_span(
         shutter,
     };
     let spp = sampler.spp();
-    let non_finite = if packets {
-        let small = tracer.world.small();
-        packet::packet_span(tracer, small, sampler, &camera, x0, y, span)
-    } else {
-        scalar_span(tracer, sampler, &camera, x0, y, span)
+    let non_finite = match packets {
+        Some(width) => simd::run_in(
+            width,
+            packet::Span {
+                tracer,
+                small: tracer.world.small(),
+                sampler,
+                camera: &camera,
+                x0,
+                y,
+                span,
+            },
+        ),
+        None => scalar_span(tracer, sampler, &camera, x0, y, span),
     };
     ((span.len() * spp) as u64, non_finite)
 }
@@ -298,6 +309,14 @@ mod tests {
         }
     }
 
+    /// A film's pixels as bits.
+    fn bits(f: &Film) -> Vec<[u32; 3]> {
+        f.pixels
+            .iter()
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect()
+    }
+
     /// The thesis's scene `name` (`scenes/thesis/`) at `width` x `height`.
     fn thesis_scene(name: &str, width: u32, height: u32) -> Scene {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -327,16 +346,16 @@ mod tests {
                 let render = |packets| {
                     render_frame_on(&scene, &sampling, 5, frame, &NoProgress, packets).unwrap()
                 };
-                let ((a, sa), (b, sb)) = (render(true), render(false));
-                assert_eq!(sa, sb, "{name}, spp {spp}");
-                assert!(sa.rays > sa.samples, "{name}: some samples hit something");
-                let bits = |f: &Film| -> Vec<[u32; 3]> {
-                    f.pixels
-                        .iter()
-                        .map(|p| p.to_array().map(f32::to_bits))
-                        .collect()
-                };
-                assert!(bits(&a) == bits(&b), "{name}, spp {spp}: the pixels differ");
+                let (b, sb) = render(None);
+                for &width in simd::widths() {
+                    let (a, sa) = render(Some(width));
+                    assert_eq!(sa, sb, "{name}, spp {spp}, {width:?}");
+                    assert!(sa.rays > sa.samples, "{name}: some samples hit something");
+                    assert!(
+                        bits(&a) == bits(&b),
+                        "{name}, spp {spp}, {width:?}: the pixels differ"
+                    );
+                }
             }
         }
     }
@@ -365,19 +384,16 @@ mod tests {
                 let render = |packets| {
                     render_frame_on(&scene, &sampling, 3, 1, &NoProgress, packets).unwrap()
                 };
-                let ((a, sa), (b, sb)) = (render(true), render(false));
-                assert_eq!(sa, sb, "{name}, spp {spp}, {filters:?}");
-                let bits = |f: &Film| -> Vec<[u32; 3]> {
-                    f.pixels
-                        .iter()
-                        .map(|p| p.to_array().map(f32::to_bits))
-                        .collect()
-                };
-                assert!(
-                    bits(&a) == bits(&b),
-                    "{name}, spp {spp}, {filters:?}: the pixels differ"
-                );
-                assert!(sa.rays > sa.samples * 2, "shadow and mirror rays are cast");
+                let (b, sb) = render(None);
+                for &width in simd::widths() {
+                    let (a, sa) = render(Some(width));
+                    assert_eq!(sa, sb, "{name}, spp {spp}, {filters:?}, {width:?}");
+                    assert!(
+                        bits(&a) == bits(&b),
+                        "{name}, spp {spp}, {filters:?}, {width:?}: the pixels differ"
+                    );
+                    assert!(sa.rays > sa.samples * 2, "shadow and mirror rays are cast");
+                }
             }
         }
     }

@@ -11,7 +11,7 @@
 //! lane by lane the scalar ones (tested in their modules), the time is `t0 + t (t1 - t0)` and
 //! the film point `(x + 1/2) + dx`, each in that order.
 
-use crate::accel::lanes::{LANES, Lane};
+use crate::accel::lanes::{LANES, Lanes, each};
 use crate::sampling::warp::SpatialWarp;
 use crate::sampling::{FrameSampler, PixelSampler, TimeFilter};
 
@@ -24,10 +24,10 @@ pub(super) struct ShiftedSamples<'a> {
 }
 
 /// Sample `i` of a group of pixels: film points `(fx, fy)` and scene times per lane.
-pub(super) struct FilmLanes {
-    pub(super) fx: Lane,
-    pub(super) fy: Lane,
-    pub(super) time: Lane,
+pub(super) struct FilmLanes<L: Lanes> {
+    pub(super) fx: L,
+    pub(super) fy: L,
+    pub(super) time: L,
 }
 
 impl<'a> ShiftedSamples<'a> {
@@ -42,31 +42,31 @@ impl<'a> ShiftedSamples<'a> {
     }
 
     /// The pixels' shifts, per axis.
-    pub(super) fn shifts(pixels: &[PixelSampler; LANES]) -> [Lane; 3] {
+    pub(super) fn shifts<L: Lanes>(pixels: &[PixelSampler; LANES]) -> [L; 3] {
         let s = pixels.each_ref().map(PixelSampler::shift);
-        std::array::from_fn(|d| Lane::new(std::array::from_fn(|k| s[k][d])))
+        [0, 1, 2].map(|d| L::new(std::array::from_fn(|k| s[k][d])))
     }
 
     /// Sample `i` of the pixels whose shifts are `shift`, at film columns `x` (pixel
     /// `x + 1/2` per lane) of the row whose centre is `y`.
-    #[inline]
-    pub(super) fn sample(&self, shift: &[Lane; 3], x: Lane, y: f32, i: usize) -> FilmLanes {
+    #[inline(always)]
+    pub(super) fn sample<L: Lanes>(&self, shift: &[L; 3], x: L, y: f32, i: usize) -> FilmLanes<L> {
         let p = self.points[i];
-        let [u, v, t] = std::array::from_fn(|d| wrap(Lane::splat(p[d]), shift[d]));
+        let [u, v, t] = each(|d| wrap(L::splat(p[d]), shift[d]));
         let (dx, dy) = self.spatial.offset_lanes(u, v);
         let t = self.time.warp_lanes(t);
         let (t0, t1) = self.shutter;
         FilmLanes {
             fx: x + dx,
-            fy: Lane::splat(y) + dy,
-            time: Lane::splat(t0) + t * Lane::splat(t1 - t0),
+            fy: L::splat(y) + dy,
+            time: L::splat(t0) + t * L::splat(t1 - t0),
         }
     }
 }
 
 /// [`crate::sampling::shift::wrap`] in lanes.
 #[inline(always)]
-fn wrap(a: Lane, s: Lane) -> Lane {
+fn wrap<L: Lanes>(a: L, s: L) -> L {
     let r = a + s;
-    r.simd_ge(Lane::ONE).bitselect(r - Lane::ONE, r)
+    r.simd_ge(L::ONE).bitselect(r - L::ONE, r)
 }

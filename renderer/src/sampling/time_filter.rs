@@ -4,7 +4,10 @@
 //! equally.
 
 pub use crate::condition::TimeFilter;
-use wide::{f32x8, f64x4};
+use crate::simd::Lanes;
+#[cfg(test)]
+use wide::f32x8;
+use wide::f64x4;
 
 /// The density and warp of each filter (its names are in [`crate::condition`]).
 impl TimeFilter {
@@ -55,12 +58,12 @@ impl TimeFilter {
     }
 
     /// [`TimeFilter::warp`] of eight u at once, lane by lane the same bits.
-    #[inline]
-    pub fn warp_lanes(self, u: f32x8) -> f32x8 {
+    #[inline(always)]
+    pub fn warp_lanes<L: Lanes>(self, u: L) -> L {
         match self {
             TimeFilter::Box => u,
-            TimeFilter::Triangle => triangle_lanes(u),
-            TimeFilter::TruncatedBox => f32x8::new(u.to_array().map(|u| self.warp(u))),
+            TimeFilter::Triangle => L::new(triangle_lanes(u.to_array())),
+            TimeFilter::TruncatedBox => L::new(u.to_array().map(|u| self.warp(u))),
         }
     }
 }
@@ -70,9 +73,8 @@ impl TimeFilter {
 /// operation as the scalar warp does it (`2 u` and `2 - 2 u` are exact in f64), then rounded
 /// to f32. Per lane, a branch on a random u and a scalar square root each cost about as
 /// much as the rest of a camera sample's set-up (perf, the plane's frame 93).
-#[inline]
-fn triangle_lanes(u: f32x8) -> f32x8 {
-    let u = u.to_array();
+#[inline(always)]
+fn triangle_lanes(u: [f32; 8]) -> [f32; 8] {
     let (half, one, two) = (f64x4::splat(0.5), f64x4::ONE, f64x4::splat(2.0));
     let mut t = [0.0f32; 8];
     for (quarter, out) in u.chunks_exact(4).zip(t.chunks_exact_mut(4)) {
@@ -84,7 +86,7 @@ fn triangle_lanes(u: f32x8) -> f32x8 {
             *out = t as f32;
         }
     }
-    f32x8::new(t)
+    t
 }
 
 #[cfg(test)]

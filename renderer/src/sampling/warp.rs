@@ -4,6 +4,8 @@
 
 use super::config::SpatialFilter;
 use crate::math;
+use crate::simd::Lanes;
+#[cfg(test)]
 use wide::f32x8;
 
 /// The smallest 1 - u the Gaussian warp accepts: u = 1 (never produced by a wrapped shift, but
@@ -39,10 +41,10 @@ impl SpatialWarp {
     }
 
     /// [`SpatialWarp::offset`] of eight (u, v) at once, lane by lane the same bits.
-    #[inline]
-    pub fn offset_lanes(self, u: f32x8, v: f32x8) -> (f32x8, f32x8) {
+    #[inline(always)]
+    pub fn offset_lanes<L: Lanes>(self, u: L, v: L) -> (L, L) {
         match self {
-            SpatialWarp::Box => (u - f32x8::splat(0.5), v - f32x8::splat(0.5)),
+            SpatialWarp::Box => (u - L::splat(0.5), v - L::splat(0.5)),
             SpatialWarp::Gaussian { sigma } => box_muller_lanes(u, v, sigma),
         }
     }
@@ -66,11 +68,11 @@ pub fn box_muller(u: f32, v: f32, sigma: f32) -> (f32, f32) {
 
 /// [`box_muller`] in lanes: each lane does its f32 operations in its order (`max` and `sqrt`
 /// are exact in lanes as in f32), `ln` and `sin_cos` by [`crate::math`]'s lanes.
-#[inline]
-pub fn box_muller_lanes(u: f32x8, v: f32x8, sigma: f32) -> (f32x8, f32x8) {
-    let kept = (f32x8::ONE - u).max(f32x8::splat(MIN_ONE_MINUS_U));
-    let r = f32x8::splat(sigma) * (f32x8::splat(-2.0) * math::ln_lanes(kept)).sqrt();
-    let (s, c) = math::sin_cos_lanes(f32x8::splat(std::f32::consts::TAU) * v);
+#[inline(always)]
+pub fn box_muller_lanes<L: Lanes>(u: L, v: L, sigma: f32) -> (L, L) {
+    let kept = (L::ONE - u).max(L::splat(MIN_ONE_MINUS_U));
+    let r = L::splat(sigma) * (L::splat(-2.0) * math::ln_lanes(kept)).sqrt();
+    let (s, c) = math::sin_cos_lanes(L::splat(std::f32::consts::TAU) * v);
     (r * c, r * s)
 }
 

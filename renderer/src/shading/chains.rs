@@ -16,7 +16,9 @@
 
 use super::packet::{V3, lanes, set};
 use super::{Surface, Tracer, bounce};
-use crate::accel::lanes::{LANES, Lane, RayPacket};
+#[cfg(test)]
+use crate::accel::lanes::Lane;
+use crate::accel::lanes::{LANES, Lanes, RayPacket};
 use crate::geometry::Ray;
 use glam::{Vec3, Vec3A};
 
@@ -60,8 +62,9 @@ impl Tracer<'_> {
     /// sky (a culled lane's included) is finished by one lookup in lanes.
     ///
     /// [`World::may_hit_lanes`]: crate::accel::World::may_hit_lanes
-    pub fn radiance_lanes(&self, ray: &RayPacket, live: u32) -> V3 {
-        let mut out = [Lane::ZERO; 3];
+    #[inline(always)]
+    pub fn radiance_lanes<L: Lanes>(&self, ray: &RayPacket<L>, live: u32) -> V3<L> {
+        let mut out = [L::ZERO; 3];
         self.count(live);
         // Rays that surely hit nothing see the sky without the scalar path's walk.
         let maybe = self.world.may_hit_lanes(ray, live);
@@ -122,10 +125,11 @@ impl Tracer<'_> {
     }
 
     /// [`Tracer::background`] in the directions `dirs` of the lanes of `sky`, in lanes.
-    fn sky_lanes(&self, dirs: &V3, sky: u32) -> V3 {
+    #[inline(always)]
+    fn sky_lanes<L: Lanes>(&self, dirs: &V3<L>, sky: u32) -> V3<L> {
         match &self.scene.environment {
             Some(env) => env.radiance_lanes(dirs, sky),
-            None => [Lane::ZERO; 3],
+            None => [L::ZERO; 3],
         }
     }
 }
@@ -167,7 +171,7 @@ mod tests {
                     )
                 });
                 let lanes_tracer = Tracer::new(&world, &scene);
-                let got = lanes_tracer.radiance_lanes(&RayPacket::new(&rays), 0xff);
+                let got = lanes_tracer.radiance_lanes(&RayPacket::<Lane>::new(&rays), 0xff);
                 let scalar = Tracer::new(&world, &scene);
                 for (i, ray) in rays.iter().enumerate() {
                     let before = scalar.rays();

@@ -23,38 +23,46 @@
 
 use super::{Surface, Tracer, bounce, phong};
 use crate::accel::SurfaceHit;
-use crate::accel::lanes::{LANES, Lane, RayPacket, dot, lane_mask, point_at};
+use crate::accel::lanes::{LANES, Lane, Lanes, RayPacket, dot, each, point_at};
 use crate::accel::packet::{Centres, Nearest, SmallWorld};
 use crate::light::Light;
 use crate::material::Material;
+use crate::simd::Kernel;
 use glam::{Vec3, Vec3A};
 
 /// A vector per lane.
-pub type V3 = [Lane; 3];
+pub type V3<L = Lane> = [L; 3];
 
 impl<'a> Tracer<'a> {
     /// [`Tracer::radiance`]`(ray lane i, 0)` for each lane `i` whose bit is set in `live`, in
     /// lanes (the others' values are not to be read; they cast nothing). `small` must be the
     /// world's packet form.
-    pub fn radiance_packet(&self, small: &'a SmallWorld, ray: &RayPacket, live: u32) -> V3 {
+    #[inline(always)]
+    pub fn radiance_packet<L: Lanes>(
+        &self,
+        small: &'a SmallWorld,
+        ray: &RayPacket<L>,
+        live: u32,
+    ) -> V3<L> {
         // The orbiting spheres' centres at the lanes' times, for every ray of the packet: the
         // tracer's cells, made once and reset per packet.
         let mut cells = self.centres.borrow_mut();
-        let centres = cells.get_or_insert_with(|| small.centres(ray.time));
-        centres.reset(ray.time);
+        let centres = cells.get_or_insert_with(|| small.centres(ray.time.to_wide()));
+        centres.reset(ray.time.to_wide());
         self.packet_at(small, centres, ray, live, 0)
     }
 
     /// [`Tracer::radiance`]`(ray lane i, depth)` for the lanes of `live`, in lanes; `centres`
     /// at the lanes' times (a mirror ray keeps its camera ray's time).
-    fn packet_at(
+    #[inline(always)]
+    fn packet_at<L: Lanes>(
         &self,
         small: &SmallWorld,
         centres: &Centres,
-        ray: &RayPacket,
+        ray: &RayPacket<L>,
         live: u32,
         depth: u32,
-    ) -> V3 {
+    ) -> V3<L> {
         let simple = SmallWorld::simple_packet(self.world.shutter(), ray, live);
         let nearest = small.nearest(ray, simple, centres);
         // A tie between instances is the scalar path's to break.
@@ -62,7 +70,7 @@ impl<'a> Tracer<'a> {
         self.count(packet);
         let hit = packet & nearest.hit();
         let mut out = match hit {
-            0 => [Lane::ZERO; 3],
+            0 => [L::ZERO; 3],
             _ => {
                 let h = Hits::new(self, small, centres, ray, &nearest, hit);
                 self.shade_packet(small, centres, ray, &h, depth)
@@ -79,33 +87,38 @@ impl<'a> Tracer<'a> {
     /// others): the environment lookups in lanes ([`Environment::radiance_lanes`]).
     ///
     /// [`Environment::radiance_lanes`]: crate::environment::Environment::radiance_lanes
-    fn background_lanes(&self, ray: &RayPacket, missed: u32, out: &mut V3) {
+    #[inline(always)]
+    fn background_lanes<L: Lanes>(&self, ray: &RayPacket<L>, missed: u32, out: &mut V3<L>) {
         let Some(env) = self.scene.environment.as_ref().filter(|_| missed != 0) else {
             return;
         };
         let sky = env.radiance_lanes(&ray.dir, missed);
-        let m = lane_mask(missed);
-        *out = std::array::from_fn(|k| m.bitselect(sky[k], out[k]));
+        let m = L::lane_mask(missed);
+        *out = each(|k| m.bitselect(sky[k], out[k]));
     }
 
     /// [`Tracer::shade`] at `depth` for the lanes of `h` (zero in the others).
-    fn shade_packet(
+    #[inline(always)]
+    fn shade_packet<L: Lanes>(
         &self,
         small: &SmallWorld,
         centres: &Centres,
-        ray: &RayPacket,
-        h: &Hits,
+        ray: &RayPacket<L>,
+        h: &Hits<L>,
         depth: u32,
-    ) -> V3 {
+    ) -> V3<L> {
         let hit = h.lanes;
         let direct = self.direct_packet(small, centres, ray, h);
         // [`Tracer::local`]: the ambient term, then the direct light for a lit material.
-        let (lit, hit_lanes) = (lane_mask(h.m.lit), lane_mask(hit));
+        let (lit, hit_lanes) = (L::lane_mask(h.m.lit), L::lane_mask(hit));
         let a = self.scene.settings.ambient_light.to_array();
-        let mut l: V3 = std::array::from_fn(|k| {
-            let ambient = h.m.ambient[k] * Lane::splat(a[k]);
-            hit_lanes.bitselect(lit.bitselect(ambient + direct[k], ambient), Lane::ZERO)
-        });
+        // A loop, not a closure: a closure of this many lane operations is not always inlined
+        // into the AVX2 entry (`simd`'s module notes).
+        let mut l = [L::ZERO; 3];
+        for (k, l) in l.iter_mut().enumerate() {
+            let ambient = h.m.ambient[k] * L::splat(a[k]);
+            *l = hit_lanes.bitselect(lit.bitselect(ambient + direct[k], ambient), L::ZERO);
+        }
         // Then the mirror reflection ([`Tracer::reflects`]), its rays traced as a packet.
         let reflect = match depth < self.max_depth {
             true => hit & h.m.reflective,
@@ -122,19 +135,20 @@ impl<'a> Tracer<'a> {
     /// deeper ([`Tracer::packet_at`], recursively), and each lane adds `weight * L(bounce)`
     /// (`0` for a material without a Fresnel curve), as the recursion does.
     #[allow(clippy::too_many_arguments)]
-    fn reflect_packet(
+    #[inline(always)]
+    fn reflect_packet<L: Lanes>(
         &self,
         small: &SmallWorld,
         centres: &Centres,
-        ray: &RayPacket,
-        h: &Hits,
+        ray: &RayPacket<L>,
+        h: &Hits<L>,
         reflect: u32,
         depth: u32,
-        l: &mut V3,
+        l: &mut V3<L>,
     ) {
         // Lanes outside `live` keep the incoming rays (never read).
         let mut mirror = *ray;
-        let mut weight = [Lane::ZERO; 3];
+        let mut weight = [L::ZERO; 3];
         let mut live = 0;
         for i in lanes(reflect) {
             let r = ray.lane(i);
@@ -148,26 +162,35 @@ impl<'a> Tracer<'a> {
             }
         }
         let x = match live {
-            0 => [Lane::ZERO; 3],
-            _ => self.packet_at(small, centres, &mirror, live, depth + 1),
+            0 => [L::ZERO; 3],
+            // Through the lanes' entry: a recursion cannot inline (`simd::Lanes::enter`).
+            _ => L::enter(Bounce {
+                tracer: self,
+                small,
+                centres,
+                ray: &mirror,
+                live,
+                depth: depth + 1,
+            }),
         };
-        let (on, add) = (lane_mask(live), lane_mask(reflect));
-        *l = std::array::from_fn(|k| {
-            let reflection = on.bitselect(weight[k] * x[k], Lane::ZERO);
+        let (on, add) = (L::lane_mask(live), L::lane_mask(reflect));
+        *l = each(|k| {
+            let reflection = on.bitselect(weight[k] * x[k], L::ZERO);
             add.bitselect(l[k] + reflection, l[k])
         });
     }
 
     /// [`Tracer::direct`] for the lit lanes of `h`: per light, the lanes' shadow rays are
     /// made and tested together.
-    fn direct_packet(
+    #[inline(always)]
+    fn direct_packet<L: Lanes>(
         &self,
         small: &SmallWorld,
         centres: &Centres,
-        ray: &RayPacket,
-        h: &Hits,
-    ) -> V3 {
-        let mut sum = [Lane::ZERO; 3];
+        ray: &RayPacket<L>,
+        h: &Hits<L>,
+    ) -> V3<L> {
+        let mut sum = [L::ZERO; 3];
         let lit = h.lanes & h.m.lit;
         if lit == 0 {
             return sum;
@@ -176,7 +199,7 @@ impl<'a> Tracer<'a> {
             let s = LightLanes::sample(light, &h.point);
             // [`shadow_ray`](super::shadow_ray): `None` below either surface.
             let cos = dot(&h.ns, &s.towards);
-            let below = cos.simd_le(Lane::ZERO) | dot(&h.ng, &s.towards).simd_le(Lane::ZERO);
+            let below = cos.simd_le(L::ZERO) | dot(&h.ng, &s.towards).simd_le(L::ZERO);
             let live = lit & s.ok.to_bitmask() & !below.to_bitmask();
             if live == 0 {
                 continue;
@@ -188,15 +211,22 @@ impl<'a> Tracer<'a> {
                 continue;
             }
             let add = h.lit_by(&s, cos, open);
-            let open = lane_mask(open);
-            sum = std::array::from_fn(|k| open.bitselect(sum[k] + add[k], sum[k]));
+            let open = L::lane_mask(open);
+            sum = each(|k| open.bitselect(sum[k] + add[k], sum[k]));
         }
         sum
     }
 
     /// [`World::occluded`](crate::accel::World::occluded) for the lanes of `live`: the lanes
     /// blocked.
-    fn blocked(&self, small: &SmallWorld, centres: &Centres, shadow: &RayPacket, live: u32) -> u32 {
+    #[inline(always)]
+    fn blocked<L: Lanes>(
+        &self,
+        small: &SmallWorld,
+        centres: &Centres,
+        shadow: &RayPacket<L>,
+        live: u32,
+    ) -> u32 {
         let simple = SmallWorld::simple_packet(self.world.shutter(), shadow, live);
         let mut blocked = match simple {
             0 => 0,
@@ -215,40 +245,62 @@ impl<'a> Tracer<'a> {
     }
 }
 
+/// [`Tracer::packet_at`] for a packet's mirror rays, as a [`Kernel`].
+struct Bounce<'a, 'b, L: Lanes> {
+    tracer: &'a Tracer<'b>,
+    small: &'a SmallWorld,
+    centres: &'a Centres<'a>,
+    ray: &'a RayPacket<L>,
+    live: u32,
+    depth: u32,
+}
+
+impl<L: Lanes> Kernel for Bounce<'_, '_, L> {
+    type Output = V3<L>;
+
+    /// In lanes of type `M`: `L` itself (`Lanes::enter`), so the casts are no-ops.
+    #[inline(always)]
+    fn run<M: Lanes>(self) -> V3<L> {
+        let ray = self.ray.cast::<M>();
+        let x = (self.tracer).packet_at(self.small, self.centres, &ray, self.live, self.depth);
+        each(|k| L::from_wide(x[k].to_wide()))
+    }
+}
+
 /// The hits of a packet ready to shade: [`Surface`] in lanes, with the materials' terms.
-struct Hits {
+struct Hits<L: Lanes> {
     /// The lanes shaded here (bit `i` for lane `i`).
     lanes: u32,
     /// The instance each lane hit.
-    instance: Lane,
-    t: Lane,
-    point: V3,
+    instance: L,
+    t: L,
+    point: V3<L>,
     /// The normal as the instance faces ([`SurfaceHit`]'s geometric and shading normal).
-    normal: V3,
+    normal: V3<L>,
     /// The normals turned towards the viewer, and the direction towards the viewer.
-    ng: V3,
-    ns: V3,
-    v: V3,
-    m: Materials,
+    ng: V3<L>,
+    ns: V3<L>,
+    v: V3<L>,
+    m: Materials<L>,
 }
 
-impl Hits {
+impl<L: Lanes> Hits<L> {
     /// The hits of the lanes of `lanes`: each instance's normals and material for the lanes
     /// it won, for the instances some lane won only (a packet meets one to three of the
     /// world's up to 24 instances).
-    #[inline]
+    #[inline(always)]
     fn new(
         tracer: &Tracer,
         small: &SmallWorld,
         centres: &Centres,
-        ray: &RayPacket,
-        nearest: &Nearest,
+        ray: &RayPacket<L>,
+        nearest: &Nearest<L>,
         lanes: u32,
     ) -> Self {
         let point = point_at(&ray.origin, &ray.dir, nearest.t);
-        let mut normal = [Lane::ZERO; 3];
+        let mut normal = [L::ZERO; 3];
         let mut m = Materials::default();
-        let on_lanes = lane_mask(lanes);
+        let on_lanes = L::lane_mask(lanes);
         let instances = nearest.instance.to_array();
         let mut pending = lanes;
         while pending != 0 {
@@ -259,7 +311,7 @@ impl Hits {
             let material = &tracer.scene.materials[small.material(i) as usize];
             m.add(on, material, tracer.max_depth > 0);
         }
-        let v = ray.dir.map(|c| -c);
+        let v = each(|k| -ray.dir[k]);
         let (ng, ns) = facing_normals(&normal, &v);
         Self {
             lanes,
@@ -290,45 +342,46 @@ impl Hits {
 
     /// [`lit_by`](super::lit_by) in lanes: the Lambert and Phong terms of the light sample
     /// `s` with `cos = ns · l`, for the lanes of `open`.
-    #[inline]
-    fn lit_by(&self, s: &LightLanes, cos: Lane, open: u32) -> V3 {
+    #[inline(always)]
+    fn lit_by(&self, s: &LightLanes<L>, cos: L, open: u32) -> V3<L> {
         let phong = self.m.phong & open;
         let specular = match phong {
-            0 => [Lane::ZERO; 3],
+            0 => [L::ZERO; 3],
             _ => self.specular(&s.towards, phong),
         };
         let (irradiance, diffuse) = (&s.irradiance, &self.m.diffuse);
-        std::array::from_fn(|k| irradiance[k] * (diffuse[k] * cos + specular[k]))
+        each(|k| irradiance[k] * (diffuse[k] * cos + specular[k]))
     }
 
     /// `m.specular * phong(reflect(-l, ns) · v, p)` for the lanes of `phong`, zero for the
     /// others (as [`lit_by`](super::lit_by) skips it for a material without specular).
-    fn specular(&self, towards: &V3, phong_lanes: u32) -> V3 {
+    #[inline(always)]
+    fn specular(&self, towards: &V3<L>, phong_lanes: u32) -> V3<L> {
         // [`reflect`](super::reflect)`(-l, ns)`: `d - n (2 (d · n))`.
-        let d = towards.map(|c| -c);
-        let twice = Lane::splat(2.0) * dot(&d, &self.ns);
-        let r: V3 = std::array::from_fn(|k| d[k] - self.ns[k] * twice);
+        let d = each(|k| -towards[k]);
+        let twice = L::splat(2.0) * dot(&d, &self.ns);
+        let r: V3<L> = each(|k| d[k] - self.ns[k] * twice);
         let r_dot_v = dot(&r, &self.v).to_array();
         let exponent = self.m.exponent.to_array();
-        let lobe = Lane::new(std::array::from_fn(|i| {
+        let lobe = L::new(std::array::from_fn(|i| {
             if phong_lanes & (1 << i) != 0 {
                 phong(r_dot_v[i], exponent[i])
             } else {
                 0.0
             }
         }));
-        let on = lane_mask(phong_lanes);
-        self.m.specular.map(|c| on.bitselect(c * lobe, Lane::ZERO))
+        let on = L::lane_mask(phong_lanes);
+        each(|k| on.bitselect(self.m.specular[k] * lobe, L::ZERO))
     }
 }
 
 /// The materials of a packet's hits, in lanes; the flags are lane bits.
 #[derive(Default)]
-struct Materials {
-    ambient: V3,
-    diffuse: V3,
-    specular: V3,
-    exponent: Lane,
+struct Materials<L: Lanes> {
+    ambient: V3<L>,
+    diffuse: V3<L>,
+    specular: V3<L>,
+    exponent: L,
     /// [`Material::lit`].
     lit: u32,
     /// Specular not zero: the Phong lobe is computed.
@@ -337,13 +390,14 @@ struct Materials {
     reflective: u32,
 }
 
-impl Materials {
+impl<L: Lanes> Materials<L> {
     /// Material `m` for the lanes of `on`.
-    fn add(&mut self, on: Lane, m: &Material, reflections: bool) {
+    #[inline(always)]
+    fn add(&mut self, on: L, m: &Material, reflections: bool) {
         self.ambient = select(on, &splat(m.ambient), &self.ambient);
         self.diffuse = select(on, &splat(m.diffuse), &self.diffuse);
         self.specular = select(on, &splat(m.specular), &self.specular);
-        self.exponent = on.bitselect(Lane::splat(m.phong_exponent), self.exponent);
+        self.exponent = on.bitselect(L::splat(m.phong_exponent), self.exponent);
         let bits = on.to_bitmask();
         let flag = |yes: bool| if yes { bits } else { 0 };
         self.lit |= flag(m.lit());
@@ -353,29 +407,29 @@ impl Materials {
 }
 
 /// [`Light::sample`] in lanes, and the shadow ray it asks for.
-struct LightLanes {
-    towards: V3,
+struct LightLanes<L: Lanes> {
+    towards: V3<L>,
     /// `None` for a directional light (infinitely far).
-    distance: Option<Lane>,
-    irradiance: V3,
+    distance: Option<L>,
+    irradiance: V3<L>,
     /// The lanes the light can light (not sitting on a point light).
-    ok: Lane,
+    ok: L,
 }
 
-impl LightLanes {
-    #[inline]
-    fn sample(light: &Light, point: &V3) -> Self {
+impl<L: Lanes> LightLanes<L> {
+    #[inline(always)]
+    fn sample(light: &Light, point: &V3<L>) -> Self {
         match *light {
             Light::Point { position, power } => {
                 let p = position.to_array();
-                let d: V3 = std::array::from_fn(|k| Lane::splat(p[k]) - point[k]);
+                let d: V3<L> = each(|k| L::splat(p[k]) - point[k]);
                 let d2 = dot(&d, &d);
-                let ok = d2.simd_gt(Lane::ZERO) & d2.is_finite();
+                let ok = d2.simd_gt(L::ZERO) & d2.is_finite();
                 let dist = d2.sqrt();
                 Self {
-                    towards: d.map(|c| c / dist),
+                    towards: each(|k| d[k] / dist),
                     distance: Some(dist),
-                    irradiance: power.to_array().map(|c| Lane::splat(c) / d2),
+                    irradiance: each(|k| L::splat(power[k]) / d2),
                     ok,
                 }
             }
@@ -386,24 +440,22 @@ impl LightLanes {
                 towards: splat(towards.into()),
                 distance: None,
                 irradiance: splat(irradiance),
-                ok: lane_mask(u32::MAX),
+                ok: L::lane_mask(u32::MAX),
             },
         }
     }
 
     /// [`shadow_ray`](super::shadow_ray)'s ray: from [`SurfaceHit::spawn_point`] towards
     /// the light, as far as the light (and no farther than its distance past the hit point).
-    #[inline]
-    fn shadow_ray(&self, ray: &RayPacket, h: &Hits) -> RayPacket {
+    #[inline(always)]
+    fn shadow_ray(&self, ray: &RayPacket<L>, h: &Hits<L>) -> RayPacket<L> {
         let origin = spawn_point(&h.point, &h.normal, &self.towards);
         let t_max = match self.distance {
-            None => Lane::splat(f32::INFINITY),
+            None => L::splat(f32::INFINITY),
             Some(distance) => {
-                let back: V3 = std::array::from_fn(|k| h.point[k] - origin[k]);
+                let back: V3<L> = each(|k| h.point[k] - origin[k]);
                 let t = dot(&back, &self.towards) + distance;
-                distance
-                    .is_finite()
-                    .bitselect(t, Lane::splat(f32::INFINITY))
+                distance.is_finite().bitselect(t, L::splat(f32::INFINITY))
             }
         };
         RayPacket {
@@ -417,60 +469,60 @@ impl LightLanes {
 
 /// [`SurfaceHit::spawn_point`] in lanes: the point pushed off the surface along the normal
 /// `n` (as the instance faces), towards `dir`'s side, by `1e-5 (1 + max |p_k|)`.
-#[inline]
-fn spawn_point(point: &V3, n: &V3, dir: &V3) -> V3 {
-    let a = point.map(|c| c.abs());
+#[inline(always)]
+fn spawn_point<L: Lanes>(point: &V3<L>, n: &V3<L>, dir: &V3<L>) -> V3<L> {
+    let a = each(|k| point[k].abs());
     // glam's `max_element`: `maxps(maxps(x, y), z)`.
     let largest = a[0].fast_max(a[1]).fast_max(a[2]);
-    let eps = Lane::splat(1e-5) * (Lane::ONE + largest);
+    let eps = L::splat(1e-5) * (L::ONE + largest);
     let side = dot(dir, n)
-        .simd_ge(Lane::ZERO)
-        .bitselect(Lane::ONE, Lane::splat(-1.0));
+        .simd_ge(L::ZERO)
+        .bitselect(L::ONE, L::splat(-1.0));
     let step = eps * side;
-    std::array::from_fn(|k| point[k] + n[k] * step)
+    each(|k| point[k] + n[k] * step)
 }
 
 /// [`facing_normals`](super::facing_normals) in lanes (the hit's geometric and shading
 /// normals are both `n`).
-#[inline]
-fn facing_normals(n: &V3, v: &V3) -> (V3, V3) {
-    let zero = n[0].simd_eq(Lane::ZERO) & n[1].simd_eq(Lane::ZERO) & n[2].simd_eq(Lane::ZERO);
+#[inline(always)]
+fn facing_normals<L: Lanes>(n: &V3<L>, v: &V3<L>) -> (V3<L>, V3<L>) {
+    let zero = n[0].simd_eq(L::ZERO) & n[1].simd_eq(L::ZERO) & n[2].simd_eq(L::ZERO);
     let finite = n[0].is_finite() & n[1].is_finite() & n[2].is_finite();
-    let bad = zero | (finite ^ lane_mask(u32::MAX));
+    let bad = zero | (finite ^ L::lane_mask(u32::MAX));
     let ng = select(bad, v, n);
-    let ng = flip_where(dot(&ng, v).simd_lt(Lane::ZERO), &ng);
+    let ng = flip_where(dot(&ng, v).simd_lt(L::ZERO), &ng);
     let ns = select(bad, &ng, n);
-    let ns = flip_where(dot(&ns, &ng).simd_lt(Lane::ZERO), &ns);
+    let ns = flip_where(dot(&ns, &ng).simd_lt(L::ZERO), &ns);
     (ng, ns)
 }
 
 /// `-v` in the lanes of `m`, `v` in the others.
 #[inline(always)]
-fn flip_where(m: Lane, v: &V3) -> V3 {
-    let sign = m & Lane::splat(-0.0);
-    v.map(|c| c ^ sign)
+fn flip_where<L: Lanes>(m: L, v: &V3<L>) -> V3<L> {
+    let sign = m & L::splat(-0.0);
+    each(|k| v[k] ^ sign)
 }
 
 /// `a` in the lanes of `m`, `b` in the others.
 #[inline(always)]
-fn select(m: Lane, a: &V3, b: &V3) -> V3 {
-    std::array::from_fn(|k| m.bitselect(a[k], b[k]))
+fn select<L: Lanes>(m: L, a: &V3<L>, b: &V3<L>) -> V3<L> {
+    each(|k| m.bitselect(a[k], b[k]))
 }
 
 #[inline(always)]
-fn splat(v: Vec3) -> V3 {
-    v.to_array().map(Lane::splat)
+fn splat<L: Lanes>(v: Vec3) -> V3<L> {
+    each(|k| L::splat(v[k]))
 }
 
 /// Lane `i` of `v`.
 #[inline(always)]
-fn lane<T: From<[f32; 3]>>(v: &V3, i: usize) -> T {
+fn lane<T: From<[f32; 3]>, L: Lanes>(v: &V3<L>, i: usize) -> T {
     T::from(v.each_ref().map(|c| c.as_array()[i]))
 }
 
 /// Set lane `i` of `v` to `x`.
 #[inline(always)]
-pub(super) fn set(v: &mut V3, i: usize, x: Vec3) {
+pub(super) fn set<L: Lanes>(v: &mut V3<L>, i: usize, x: Vec3) {
     for (c, x) in v.iter_mut().zip(x.to_array()) {
         c.as_mut_array()[i] = x;
     }

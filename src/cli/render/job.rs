@@ -106,12 +106,14 @@ pub fn run(args: JobArgs) -> Result<()> {
 }
 
 /// A word under the dry run's estimate where the CPU runs AVX2 and this binary is not built for
-/// it: the estimate is then 1.2-1.4x longer than it need be (BENCHMARKS.md, "An AVX2 build").
+/// it: its packet code takes AVX2 lanes anyway, but an AVX2 build is 1.1-1.2x faster still
+/// (BENCHMARKS.md, "Lanes chosen at run time").
 fn avx2_note(cpu_has_avx2: bool, built_for_avx2: bool) -> Option<&'static str> {
     (cpu_has_avx2 && !built_for_avx2).then_some(
-        "this CPU has AVX2 and this binary is not built for it: an AVX2 build renders the same \
-         bytes 1.2-1.4x faster (RUSTFLAGS=\"-C target-cpu=x86-64-v3 -C target-feature=-fma\" \
-         cargo install --path .; BENCHMARKS.md, \"An AVX2 build\")",
+        "this CPU has AVX2: this binary traces its packets in AVX2 lanes, and a build for it \
+         renders the same bytes 1.1-1.2x faster still (RUSTFLAGS=\"-C target-cpu=x86-64-v3 -C \
+         target-feature=-fma\" cargo install --path .; BENCHMARKS.md, \"Lanes chosen at run \
+         time\")",
     )
 }
 

@@ -1,0 +1,135 @@
+//! [`Lanes`] for `wide`'s `f32x8`: what the packet code always ran on (two SSE2 registers in
+//! the default build, one AVX register in a build for x86-64-v3).
+
+use super::{Kernel, Lanes};
+use wide::{f32x8, i32x8};
+
+/// `kernel` in `wide`'s lanes: a function of its own, as [`super::Avx2`]'s entry is (so a
+/// recursion through [`Lanes::enter`] is a call, not inlined into itself).
+#[inline(never)]
+fn run<K: Kernel>(kernel: K) -> K::Output {
+    kernel.run::<f32x8>()
+}
+
+/// `wide`'s eight lanes, as compiled.
+pub type Sse2 = f32x8;
+
+impl Lanes for f32x8 {
+    const ZERO: Self = f32x8::ZERO;
+    const ONE: Self = f32x8::ONE;
+
+    #[inline(always)]
+    fn enter<K: Kernel>(kernel: K) -> K::Output {
+        run(kernel)
+    }
+
+    #[inline(always)]
+    fn splat(x: f32) -> Self {
+        f32x8::splat(x)
+    }
+    #[inline(always)]
+    fn new(lanes: [f32; 8]) -> Self {
+        f32x8::new(lanes)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f32; 8] {
+        f32x8::to_array(self)
+    }
+    #[inline(always)]
+    fn as_array(&self) -> &[f32; 8] {
+        f32x8::as_array(self)
+    }
+    #[inline(always)]
+    fn as_mut_array(&mut self) -> &mut [f32; 8] {
+        f32x8::as_mut_array(self)
+    }
+    #[inline(always)]
+    fn to_wide(self) -> f32x8 {
+        self
+    }
+    #[inline(always)]
+    fn from_wide(w: f32x8) -> Self {
+        w
+    }
+    #[inline(always)]
+    fn simd_eq(self, rhs: Self) -> Self {
+        f32x8::simd_eq(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_ne(self, rhs: Self) -> Self {
+        f32x8::simd_ne(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_lt(self, rhs: Self) -> Self {
+        f32x8::simd_lt(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_le(self, rhs: Self) -> Self {
+        f32x8::simd_le(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_gt(self, rhs: Self) -> Self {
+        f32x8::simd_gt(self, rhs)
+    }
+    #[inline(always)]
+    fn simd_ge(self, rhs: Self) -> Self {
+        f32x8::simd_ge(self, rhs)
+    }
+    #[inline(always)]
+    fn is_nan(self) -> Self {
+        f32x8::is_nan(self)
+    }
+    #[inline(always)]
+    fn is_finite(self) -> Self {
+        f32x8::is_finite(self)
+    }
+    #[inline(always)]
+    fn bitselect(self, if_one: Self, if_zero: Self) -> Self {
+        f32x8::bitselect(self, if_one, if_zero)
+    }
+    #[inline(always)]
+    fn to_bitmask(self) -> u32 {
+        f32x8::to_bitmask(self)
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        f32x8::any(self)
+    }
+    #[inline(always)]
+    fn all(self) -> bool {
+        f32x8::all(self)
+    }
+    #[inline(always)]
+    fn lane_mask(bits: u32) -> Self {
+        let bit = i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
+        wide::bytemuck::cast((i32x8::splat(bits as i32) & bit).simd_eq(bit))
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32x8::abs(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f32x8::sqrt(self)
+    }
+    #[inline(always)]
+    fn max(self, rhs: Self) -> Self {
+        f32x8::max(self, rhs)
+    }
+    #[inline(always)]
+    fn min(self, rhs: Self) -> Self {
+        f32x8::min(self, rhs)
+    }
+    #[inline(always)]
+    fn fast_max(self, rhs: Self) -> Self {
+        f32x8::fast_max(self, rhs)
+    }
+    #[inline(always)]
+    fn fast_min(self, rhs: Self) -> Self {
+        f32x8::fast_min(self, rhs)
+    }
+    #[inline(always)]
+    fn trunc_through_int(self) -> Self {
+        self.fast_trunc_int().round_float()
+    }
+}
