@@ -171,7 +171,7 @@ impl Texels {
                         corner[i] = w[at[i]] as i32;
                     }
                 }
-                // In `wide`'s lanes (integer AVX2 lanes would gain little here).
+                // In `wide`'s lanes whatever `L` is: the integer steps have no `Lanes` form.
                 words.map(|corner| decode_lanes(i32x8::new(corner)).map(L::from_wide))
             }
         }

@@ -20,7 +20,7 @@ use crate::accel::lanes::{LANES, Lanes, dot, each};
 use crate::camera::{Camera, Moving};
 
 /// A vector per lane.
-type V3<L = crate::accel::lanes::Lane> = [L; 3];
+type V3<L> = [L; 3];
 
 /// The frames of `camera` at the times `time` per lane: eye, forward, right, up (per axis, in
 /// lanes), and the lanes where the frame is defined (bit `i` for lane `i`).
@@ -64,6 +64,7 @@ fn cross<L: Lanes>(a: &V3<L>, b: &V3<L>) -> V3<L> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::lanes::Lane;
     use glam::Vec3;
 
     /// Every lane's frame is [`Camera::frame_at`]'s to the bit, and undefined exactly where it
@@ -100,9 +101,9 @@ mod tests {
                 continue;
             };
             let times = std::array::from_fn(|k| h(i, 30 + k as u64) * 0.1);
-            let (frames, defined) = frames_at(&camera, crate::accel::lanes::Lane::new(times));
+            let (frames, defined) = frames_at(&camera, Lane::new(times));
             for (k, &t) in times.iter().enumerate() {
-                let lane = |v: &V3| v.map(|c| c.as_array()[k].to_bits());
+                let lane = |v: &V3<Lane>| v.map(|c| c.as_array()[k].to_bits());
                 match camera.frame_at(t) {
                     Some(f) => {
                         assert!(defined & (1 << k) != 0, "camera {i}, lane {k}: undefined");

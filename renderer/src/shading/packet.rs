@@ -112,8 +112,8 @@ impl<'a> Tracer<'a> {
         // [`Tracer::local`]: the ambient term, then the direct light for a lit material.
         let (lit, hit_lanes) = (L::lane_mask(h.m.lit), L::lane_mask(hit));
         let a = self.scene.settings.ambient_light.to_array();
-        // A loop, not a closure: a closure of this many lane operations is not always inlined
-        // into the AVX2 entry (`simd`'s module notes).
+        // A loop, not a closure: a closure of this many lane operations was left out of line,
+        // outside the AVX2 entry (`bench/lanes.sh` finds such calls).
         let mut l = [L::ZERO; 3];
         for (k, l) in l.iter_mut().enumerate() {
             let ambient = h.m.ambient[k] * L::splat(a[k]);

@@ -11,6 +11,18 @@ fn run<K: Kernel>(kernel: K) -> K::Output {
     kernel.run::<f32x8>()
 }
 
+/// Trait methods taking `self` by value that call `f32x8`'s inherent method of the same name.
+macro_rules! delegate {
+    ($(fn $name:ident(self $(, $arg:ident: $ty:ty)*) -> $out:ty;)*) => {
+        $(
+            #[inline(always)]
+            fn $name(self $(, $arg: $ty)*) -> $out {
+                f32x8::$name(self $(, $arg)*)
+            }
+        )*
+    };
+}
+
 /// `wide`'s eight lanes, as compiled.
 pub type Sse2 = f32x8;
 
@@ -32,16 +44,34 @@ impl Lanes for f32x8 {
         f32x8::new(lanes)
     }
     #[inline(always)]
-    fn to_array(self) -> [f32; 8] {
-        f32x8::to_array(self)
-    }
-    #[inline(always)]
     fn as_array(&self) -> &[f32; 8] {
         f32x8::as_array(self)
     }
     #[inline(always)]
     fn as_mut_array(&mut self) -> &mut [f32; 8] {
         f32x8::as_mut_array(self)
+    }
+    // Each `wide`'s own method of the same name.
+    delegate! {
+        fn to_array(self) -> [f32; 8];
+        fn simd_eq(self, rhs: Self) -> Self;
+        fn simd_ne(self, rhs: Self) -> Self;
+        fn simd_lt(self, rhs: Self) -> Self;
+        fn simd_le(self, rhs: Self) -> Self;
+        fn simd_gt(self, rhs: Self) -> Self;
+        fn simd_ge(self, rhs: Self) -> Self;
+        fn is_nan(self) -> Self;
+        fn is_finite(self) -> Self;
+        fn bitselect(self, if_one: Self, if_zero: Self) -> Self;
+        fn to_bitmask(self) -> u32;
+        fn any(self) -> bool;
+        fn all(self) -> bool;
+        fn abs(self) -> Self;
+        fn sqrt(self) -> Self;
+        fn max(self, rhs: Self) -> Self;
+        fn min(self, rhs: Self) -> Self;
+        fn fast_max(self, rhs: Self) -> Self;
+        fn fast_min(self, rhs: Self) -> Self;
     }
     #[inline(always)]
     fn to_wide(self) -> f32x8 {
@@ -52,81 +82,9 @@ impl Lanes for f32x8 {
         w
     }
     #[inline(always)]
-    fn simd_eq(self, rhs: Self) -> Self {
-        f32x8::simd_eq(self, rhs)
-    }
-    #[inline(always)]
-    fn simd_ne(self, rhs: Self) -> Self {
-        f32x8::simd_ne(self, rhs)
-    }
-    #[inline(always)]
-    fn simd_lt(self, rhs: Self) -> Self {
-        f32x8::simd_lt(self, rhs)
-    }
-    #[inline(always)]
-    fn simd_le(self, rhs: Self) -> Self {
-        f32x8::simd_le(self, rhs)
-    }
-    #[inline(always)]
-    fn simd_gt(self, rhs: Self) -> Self {
-        f32x8::simd_gt(self, rhs)
-    }
-    #[inline(always)]
-    fn simd_ge(self, rhs: Self) -> Self {
-        f32x8::simd_ge(self, rhs)
-    }
-    #[inline(always)]
-    fn is_nan(self) -> Self {
-        f32x8::is_nan(self)
-    }
-    #[inline(always)]
-    fn is_finite(self) -> Self {
-        f32x8::is_finite(self)
-    }
-    #[inline(always)]
-    fn bitselect(self, if_one: Self, if_zero: Self) -> Self {
-        f32x8::bitselect(self, if_one, if_zero)
-    }
-    #[inline(always)]
-    fn to_bitmask(self) -> u32 {
-        f32x8::to_bitmask(self)
-    }
-    #[inline(always)]
-    fn any(self) -> bool {
-        f32x8::any(self)
-    }
-    #[inline(always)]
-    fn all(self) -> bool {
-        f32x8::all(self)
-    }
-    #[inline(always)]
     fn lane_mask(bits: u32) -> Self {
         let bit = i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
         wide::bytemuck::cast((i32x8::splat(bits as i32) & bit).simd_eq(bit))
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f32x8::abs(self)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f32x8::sqrt(self)
-    }
-    #[inline(always)]
-    fn max(self, rhs: Self) -> Self {
-        f32x8::max(self, rhs)
-    }
-    #[inline(always)]
-    fn min(self, rhs: Self) -> Self {
-        f32x8::min(self, rhs)
-    }
-    #[inline(always)]
-    fn fast_max(self, rhs: Self) -> Self {
-        f32x8::fast_max(self, rhs)
-    }
-    #[inline(always)]
-    fn fast_min(self, rhs: Self) -> Self {
-        f32x8::fast_min(self, rhs)
     }
     #[inline(always)]
     fn trunc_through_int(self) -> Self {
