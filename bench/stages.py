@@ -6,8 +6,9 @@
     python3 bench/stages.py OUT BLURLAB SAMPLES [TOP]
 
 Each instruction of the binary is given to the innermost frame of its inline chain
-(`addr2line -i`) that lies in the renderer's own source, and that file (or the function) names
-its stage; instructions of other objects (libm's powf, libc's memcpy) go to the instruction
+(`addr2line -i`) that lies in the renderer's own source, not counting the lane types' operations
+(`simd/`) and the lane math's building blocks (`math/vcl.rs`), and that file (or the function)
+names its stage; instructions of other objects (libm's powf, libc's memcpy) go to the instruction
 that called them. Prints, per stage, instructions and simulated D1 / LL read misses, in
 total and per camera sample (SAMPLES: pixels x spp), and with TOP the TOP costliest source
 lines (file:line, function) of each stage.
@@ -28,6 +29,9 @@ STAGES = [
     ("shading", [r"^shading/", r"^light\.rs", r"^material\.rs", r"^math/pow"]),
     ("camera and sampling", [r"^render/", r"^sampling/", r"^camera\.rs", r"^math/", r"^shared/hash"]),
 ]
+
+
+HELPERS = r"renderer/src/(simd/|math/vcl\.rs)"
 
 
 def stage_of(where):
@@ -130,7 +134,9 @@ def resolve(binary, addrs):
     for a, block in zip(addrs, blocks):
         lines = block.strip("\n").split("\n")
         frames = list(zip(lines[0::2], lines[1::2]))
-        pick = next((f for f in frames if "renderer/src/" in f[1]), None)
+        own = [f for f in frames if "renderer/src/" in f[1]]
+        # The lane type's operations and the lane math's building blocks go to their caller.
+        pick = next((f for f in own if not re.search(HELPERS, f[1])), own[0] if own else None)
         if pick is None:
             # Another crate's function: named by its whole chain ("exr-1.74.2/...").
             result[a] = " ".join(f"{loc}:{fn}" for fn, loc in frames)

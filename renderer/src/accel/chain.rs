@@ -15,7 +15,7 @@
 //! and inverting the result.
 
 use super::instant::Pose;
-use super::lanes::Lane;
+use super::lanes::{Lane, Lanes};
 use crate::math;
 use crate::motion::{Motion, MotionLayer};
 use glam::{Mat3A, Vec3, Vec3A};
@@ -76,14 +76,15 @@ impl Spin {
     /// (Rodrigues' formula, its operations in its order) with the sine and cosine of
     /// [`math::sin_cos_lanes`] (one call for the eight lanes instead of eight libm `sincosf`:
     /// 2-3% of the spheres scene, `perf` at 5f1035d).
-    #[inline]
-    pub fn at_lanes(&self, t: Lane) -> [[Lane; 3]; 3] {
-        let (sin, cos) = math::sin_cos_lanes(Lane::splat(self.rate) * t);
+    #[inline(always)]
+    pub fn at_lanes<L: Lanes>(&self, t: L) -> [[L; 3]; 3] {
+        let (sin, cos) = math::sin_cos_lanes(L::splat(self.rate) * t);
         let [x, y, z] = self.axis.to_array();
-        let [xs, ys, zs] = [x, y, z].map(|a| Lane::splat(a) * sin);
-        let omc = Lane::ONE - cos;
-        let [xy, xz, yz] = [x * y, x * z, y * z].map(|a| Lane::splat(a) * omc);
-        let diagonal = |a: f32| Lane::splat(a * a) * omc + cos;
+        let [xs, ys, zs] = [L::splat(x) * sin, L::splat(y) * sin, L::splat(z) * sin];
+        let omc = L::ONE - cos;
+        let [xy, xz, yz] = [x * y, x * z, y * z];
+        let [xy, xz, yz] = [L::splat(xy) * omc, L::splat(xz) * omc, L::splat(yz) * omc];
+        let diagonal = |a: f32| L::splat(a * a) * omc + cos;
         [
             [diagonal(x), xy + zs, xz - ys],
             [xy - zs, diagonal(y), yz + xs],

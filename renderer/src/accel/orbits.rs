@@ -42,6 +42,7 @@
 use super::chain::{OneSpin, Spin};
 use super::lanes::{Lane, Lanes, MAX_INSTANCES, RayPacket, SLACK, dot, each, mul};
 use super::pose::Orbit;
+use crate::simd::Kernel;
 use glam::{Mat3A, Vec3A};
 use std::cell::Cell;
 
@@ -66,30 +67,29 @@ impl Orbiter {
     /// [`SpinChain::centre`](super::chain::SpinChain::centre) in lanes, with the spin's
     /// rotation per lane `r` (columns): `(p_0 + u_0 t) + L_0 (R (p_1 + u_1 t))`.
     #[inline(always)]
-    fn centre(&self, r: &[[Lane; 3]; 3], t: Lane) -> [Lane; 3] {
+    fn centre<L: Lanes>(&self, r: &[[L; 3]; 3], t: L) -> [L; 3] {
         let c = &self.chain;
         let inner = moving(c.inner_offset, c.inner_velocity, t);
-        let turned: [Lane; 3] =
-            std::array::from_fn(|k| r[0][k] * inner[0] + r[1][k] * inner[1] + r[2][k] * inner[2]);
+        let turned = each(|k| r[0][k] * inner[0] + r[1][k] * inner[1] + r[2][k] * inner[2]);
         let out = match c.forward == Mat3A::IDENTITY {
             true => turned,
             false => mul(&c.forward, turned),
         };
         let head = moving(c.offset, c.velocity, t);
-        std::array::from_fn(|k| head[k] + out[k])
+        each(|k| head[k] + out[k])
     }
 }
 
 /// [`moving`](super::chain::moving) in lanes: `p + v t` (glam's `p + v * t`), `p` for a still
 /// `v`.
 #[inline(always)]
-fn moving(p: Vec3A, v: Vec3A, t: Lane) -> [Lane; 3] {
+fn moving<L: Lanes>(p: Vec3A, v: Vec3A, t: L) -> [L; 3] {
     let p = p.to_array();
     if v == Vec3A::ZERO {
-        return p.map(Lane::splat);
+        return each(|k| L::splat(p[k]));
     }
     let v = v.to_array();
-    std::array::from_fn(|k| Lane::splat(p[k]) + Lane::splat(v[k]) * t)
+    each(|k| L::splat(p[k]) + L::splat(v[k]) * t)
 }
 
 /// Orbiting spheres under one spin and one chain above it.
@@ -147,25 +147,51 @@ impl Centres<'_> {
         self.turned.set(0);
     }
 
-    /// Orbit `k`'s centre per lane.
+    /// Orbit `k`'s centre per lane, in the lanes `L` of the packet asking.
     #[inline(always)]
-    pub(crate) fn of(&self, k: usize) -> [Lane; 3] {
+    pub(crate) fn of<L: Lanes>(&self, k: usize) -> [L; 3] {
         if self.placed.get() & (1 << k) == 0 {
-            self.place(k);
+            self.place::<L>(k);
         }
-        self.centres[k].get()
+        let c = self.centres[k].get();
+        each(|i| L::from_wide(c[i]))
     }
 
+    /// Works out orbit `k`'s centre (and its spin's rotation if not yet) in lanes `L`, out of
+    /// line (most packets need few) but in `L`'s instructions ([`Lanes::enter`]).
     #[inline(never)]
-    fn place(&self, k: usize) {
-        let o = &self.orbits.orbiters[k];
+    fn place<L: Lanes>(&self, k: usize) {
+        L::enter(Place(self, k));
+    }
+}
+
+/// [`Centres::place`]'s work.
+struct Place<'c, 'a>(&'c Centres<'a>, usize);
+
+impl Kernel for Place<'_, '_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<L: Lanes>(self) {
+        let Place(c, k) = self;
+        let o = &c.orbits.orbiters[k];
         let s = o.spin as usize;
-        if self.turned.get() & (1 << s) == 0 {
-            self.rotations[s].set(self.orbits.spins[s].at_lanes(self.time));
-            self.turned.set(self.turned.get() | 1 << s);
-        }
-        self.centres[k].set(o.centre(&self.rotations[s].get(), self.time));
-        self.placed.set(self.placed.get() | 1 << k);
+        let time = L::from_wide(c.time);
+        let wide = |v: [L; 3]| [v[0].to_wide(), v[1].to_wide(), v[2].to_wide()];
+        let rotation = match c.turned.get() & (1 << s) {
+            0 => {
+                let r = c.orbits.spins[s].at_lanes(time);
+                c.rotations[s].set([wide(r[0]), wide(r[1]), wide(r[2])]);
+                c.turned.set(c.turned.get() | 1 << s);
+                r
+            }
+            _ => {
+                let r = c.rotations[s].get();
+                let lanes = |v: [Lane; 3]| each(|i| L::from_wide(v[i]));
+                [lanes(r[0]), lanes(r[1]), lanes(r[2])]
+            }
+        };
+        c.centres[k].set(wide(o.centre(&rotation, time)));
+        c.placed.set(c.placed.get() | 1 << k);
     }
 }
 

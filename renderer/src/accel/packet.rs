@@ -143,10 +143,7 @@ impl SmallPose {
     fn ray_to_object<L: Lanes>(&self, ray: &RayPacket<L>, centres: &Centres) -> ([L; 3], [L; 3]) {
         let p = self.translation.to_array();
         let tr: [L; 3] = match (self.orbit, self.velocity) {
-            (Some(k), _) => {
-                let c = centres.of(k);
-                each(|k| L::from_wide(c[k]))
-            }
+            (Some(k), _) => centres.of(k),
             (None, None) => p.map(L::splat),
             (None, Some(v)) => {
                 let v = v.to_array();

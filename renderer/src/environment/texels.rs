@@ -19,7 +19,6 @@
 use crate::accel::lanes::{LANES, Lane, Lanes};
 use glam::Vec3;
 use rayon::prelude::*;
-use wide::i32x8;
 
 /// A vector per lane.
 type V3<L = Lane> = [L; 3];
@@ -165,31 +164,36 @@ impl Texels {
             }
             Texels::Packed(w) => {
                 // A dead lane's word: m = 0 at a normal scale, zero in every channel.
-                let mut words = [[23i32 << 24; LANES]; 4];
+                let mut words = [[f32::from_bits(23 << 24); LANES]; 4];
                 for i in live_lanes {
                     for (corner, at) in words.iter_mut().zip(at) {
-                        corner[i] = w[at[i]] as i32;
+                        corner[i] = f32::from_bits(w[at[i]]);
                     }
                 }
-                // In `wide`'s lanes whatever `L` is: the integer steps have no `Lanes` form.
-                words.map(|corner| decode_lanes(i32x8::new(corner)).map(L::from_wide))
+                // Not `map`, whose closure is not always inlined into the AVX2 entry.
+                let corner = |c: usize| decode_lanes(L::new(words[c]));
+                [corner(0), corner(1), corner(2), corner(3)]
             }
         }
     }
 }
 
-/// [`decode`] in lanes: the same products, so the same bits.
+/// [`decode`] in lanes, on the words' bits (read as `f32`): the same products, so the same bits.
 #[inline(always)]
-fn decode_lanes(word: i32x8) -> V3 {
-    let byte = i32x8::splat(0xff);
-    let s = (word >> 24u32) & byte;
-    let normal = s.simd_gt(i32x8::splat(22));
-    let scale: Lane = if normal.all() {
-        wide::bytemuck::cast((s - i32x8::splat(22)) << 23u32)
+fn decode_lanes<L: Lanes>(word: L) -> V3<L> {
+    let byte = L::splat_bits(0xff);
+    let s = word.shr::<24>();
+    let scale = if s.int_gt(L::splat_bits(22)).all() {
+        s.int_add(L::splat_bits(-22i32 as u32)).shl::<23>()
     } else {
-        Lane::new(s.to_array().map(|s| scale(s as u32)))
+        L::new(s.to_array().map(|s| scale(s.to_bits())))
     };
-    [0u32, 8, 16].map(|shift| ((word >> shift) & byte).round_float() * scale)
+    let channel = |m: L| (m & byte).int_to_float() * scale;
+    [
+        channel(word),
+        channel(word.shr::<8>()),
+        channel(word.shr::<16>()),
+    ]
 }
 
 #[cfg(test)]
@@ -312,20 +316,41 @@ mod tests {
                     std::array::from_fn(|i| (hash(23, &[n, c as u64, i as u64]) % 64) as usize)
                 });
                 let live = (unit_f32(hash(24, &[n])) * 256.0) as u32 & 0xff;
-                let got = texels.gather::<Lane>(&at, live);
-                for (corner, at) in got.iter().zip(&at) {
-                    for (i, &at) in at.iter().enumerate() {
-                        let want = match live & (1 << i) {
-                            0 => Vec3::ZERO,
-                            _ => texels.get(at),
-                        };
-                        let have = Vec3::from_array(corner.each_ref().map(|l| l.as_array()[i]));
-                        assert_eq!(
-                            have.to_array().map(f32::to_bits),
-                            want.to_array().map(f32::to_bits)
-                        );
-                    }
+                for &width in crate::simd::widths() {
+                    let got = crate::simd::run_in(width, Gather(texels, &at, live));
+                    check(texels, &got, &at, live);
                 }
+            }
+        }
+    }
+
+    /// [`Texels::gather`] in the lanes it is run in.
+    struct Gather<'a>(&'a Texels, &'a [[usize; LANES]; 4], u32);
+
+    impl crate::simd::Kernel for Gather<'_> {
+        type Output = [[[f32; LANES]; 3]; 4];
+        #[inline(always)]
+        fn run<L: Lanes>(self) -> Self::Output {
+            self.0
+                .gather::<L>(self.1, self.2)
+                .map(|c| c.map(L::to_array))
+        }
+    }
+
+    /// `got` (corner, channel, lane) is [`Texels::get`] at `at`'s texels in the lanes of
+    /// `live`, zero in the others, to the bit.
+    fn check(texels: &Texels, got: &[[[f32; LANES]; 3]; 4], at: &[[usize; LANES]; 4], live: u32) {
+        for (corner, at) in got.iter().zip(at) {
+            for (i, &at) in at.iter().enumerate() {
+                let want = match live & (1 << i) {
+                    0 => Vec3::ZERO,
+                    _ => texels.get(at),
+                };
+                let have = Vec3::from_array(corner.map(|l| l[i]));
+                assert_eq!(
+                    have.to_array().map(f32::to_bits),
+                    want.to_array().map(f32::to_bits)
+                );
             }
         }
     }

@@ -1,15 +1,47 @@
 //! The inverse trigonometric functions in lanes (see the module notes of [`super`]).
 
+use super::vcl::select;
+use super::vcl::{flip_signs, is_inf, is_sign_negative, mul_add, polynomial_3, polynomial_4};
 use crate::simd::Lanes;
 use wide::f32x8;
 
-/// atan2(y, x) of eight (y, x) at once, in [-pi, pi] (`wide`'s `f32x8::atan2`: the pair
-/// folded into the first octant, t = min / max, (t - 1) / (t + 1) above tan(pi/8), a degree-9
-/// odd polynomial, unfolded). Signed zeros as libm: atan2(+-0, +0) = +-0, atan2(+-0, -0) =
-/// +-pi. For finite inputs (the environment's directions are).
+/// atan2(y, x) of eight (y, x) at once, in [-pi, pi] (`wide`'s `f32x8::atan2`, op for op: the
+/// pair folded into the first octant, t = min / max, (t - 1) / (t + 1) above tan(pi/8), a
+/// degree-9 odd polynomial, unfolded). Signed zeros as libm: atan2(+-0, +0) = +-0, atan2(+-0,
+/// -0) = +-pi. For finite inputs (the environment's directions are).
 #[inline(always)]
 pub fn atan2_lanes<L: Lanes>(y: L, x: L) -> L {
-    y.atan2(x)
+    use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI, SQRT_2};
+    const P: [f32; 4] = [
+        -3.33329491539E-1,
+        1.99777106478E-1,
+        -1.38776856032E-1,
+        8.05374449538E-2,
+    ];
+    let one = L::ONE;
+    let (x1, y1) = (x.abs(), y.abs());
+    let swapxy = y1.simd_gt(x1);
+    let mut x2 = select(swapxy, y1, x1);
+    let mut y2 = select(swapxy, x1, y1);
+    // Both infinite: 1 and 1 (the bits of -1 masked by infinity's), so pi/4.
+    let both_infinite = is_inf(x) & is_inf(y);
+    if both_infinite.any() {
+        x2 = select(both_infinite, x2 & -one, x2);
+        y2 = select(both_infinite, y2 & -one, y2);
+    }
+    // x = y = 0 gives NaN here, replaced below.
+    let t = y2 / x2;
+    let notsmal = t.simd_ge(L::splat(SQRT_2) - one);
+    let a = select(notsmal, t - one, t);
+    let b = select(notsmal, t + one, one);
+    let s = notsmal & L::splat(FRAC_PI_4);
+    let z = a / b;
+    let zz = z * z;
+    let re = mul_add(polynomial_3(zz, P), zz * z, z) + s;
+    let re = select(swapxy, L::splat(FRAC_PI_2) - re, re);
+    let re = select((x | y).simd_eq(L::ZERO), L::ZERO, re);
+    let re = select(is_sign_negative(x), L::splat(PI) - re, re);
+    select(is_sign_negative(y), -re, re)
 }
 
 /// [`atan2_lanes`] of one pair: the same bits.
@@ -18,11 +50,31 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     atan2_lanes(f32x8::splat(y), f32x8::splat(x)).as_array()[0]
 }
 
-/// acos x of eight x in [-1, 1] at once, in [0, pi] (`wide`'s `f32x8::acos`: for |x| >= 1/2
-/// 2 asin(sqrt((1 - |x|) / 2)), else pi/2 - asin x, asin by a degree-9 odd polynomial).
+/// acos x of eight x in [-1, 1] at once, in [0, pi] (`wide`'s `f32x8::acos`, op for op: for
+/// |x| >= 1/2 2 asin(sqrt((1 - |x|) / 2)), else pi/2 - asin x, asin by a degree-9 odd
+/// polynomial).
 #[inline(always)]
 pub fn acos_lanes<L: Lanes>(x: L) -> L {
-    x.acos()
+    use std::f32::consts::{FRAC_PI_2, PI};
+    const P: [f32; 5] = [
+        1.6666752422E-1,
+        7.4953002686E-2,
+        4.5470025998E-2,
+        2.4181311049E-2,
+        4.2163199048E-2,
+    ];
+    let xa = x.abs();
+    let big = xa.simd_ge(L::splat(0.5));
+    let x1 = L::splat(0.5) * (L::ONE - xa);
+    let x2 = xa * xa;
+    let x3 = select(big, x1, x2);
+    let xb = x1.sqrt();
+    let x4 = select(big, xb, xa);
+    let z = mul_add(polynomial_4(x3, P), x3 * x4, x4);
+    let z1 = z + z;
+    let z3 = select(x.simd_lt(L::ZERO), L::splat(PI) - z1, z1);
+    let z4 = L::splat(FRAC_PI_2) - flip_signs(z, x);
+    select(big, z3, z4)
 }
 
 /// [`acos_lanes`] of one value: the same bits.

@@ -1,14 +1,53 @@
 //! The natural logarithm in lanes (see the module notes of [`super`]).
 
+use super::vcl::{exponent, fraction_2, is_sign_negative, is_zero_or_subnormal, mul_add};
+use super::vcl::{mul_neg_add, polynomial_8, select, splat_bits};
 use crate::simd::Lanes;
 use wide::f32x8;
 
-/// ln x of eight positive x at once (`wide`'s `f32x8::ln`: x = m 2^e with m in
+/// ln x of eight positive x at once (`wide`'s `f32x8::ln`, op for op: x = m 2^e with m in
 /// [sqrt(1/2), sqrt(2)), a degree-8 polynomial in m - 1, e ln 2 added in two parts). Zero
 /// gives -infinity, a negative x NaN.
 #[inline(always)]
-pub fn ln_lanes<L: Lanes>(x: L) -> L {
-    x.ln()
+pub fn ln_lanes<L: Lanes>(x1: L) -> L {
+    const P: [f32; 9] = [
+        3.3333331174E-1,
+        -2.4999993993E-1,
+        2.0000714765E-1,
+        -1.6668057665E-1,
+        1.4249322787E-1,
+        -1.2420140846E-1,
+        1.1676998740E-1,
+        -1.1514610310E-1,
+        7.0376836292E-2,
+    ];
+    let (half, one) = (L::splat(0.5), L::ONE);
+    let x = fraction_2(x1);
+    let e = exponent(x1);
+    let mask = x.simd_gt(L::splat(std::f32::consts::SQRT_2) * half);
+    let x = select(!mask, x + x, x);
+    let fe = select(mask, e + one, e);
+    let x = x - one;
+    let res = polynomial_8(x, P);
+    let x2 = x * x;
+    let res = x2 * x * res;
+    let res = mul_add(fe, L::splat(-2.12194440e-4), res);
+    let res = res + mul_neg_add(x2, half, x);
+    let res = mul_add(fe, L::splat(0.693359375), res);
+    let overflow = !x1.is_finite();
+    let underflow = x1.simd_lt(L::splat(1.17549435E-38));
+    if !(overflow | underflow).any() {
+        return res;
+    }
+    // Zero and subnormals -infinity (as `wide`), infinity itself, the rest of x <= 0 NaN.
+    let res = select(underflow, splat_bits(0x7FC0_0101), res);
+    let res = select(is_zero_or_subnormal(x1), -splat_bits::<L>(0x7F80_0000), res);
+    let res = select(overflow, x1, res);
+    select(
+        !x1.is_finite() & is_sign_negative(x1),
+        splat_bits(0x7FC0_0101),
+        res,
+    )
 }
 
 /// [`ln_lanes`] of one value: the same bits.

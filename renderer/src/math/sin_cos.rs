@@ -1,14 +1,45 @@
 //! Sine and cosine in lanes (see the module notes of [`super`]).
 
+use super::vcl::{flip_signs, mul_neg_add, polynomial_2, round_int, round_ties_even};
+use super::vcl::{select, splat_bits};
 use crate::simd::Lanes;
 use wide::f32x8;
 
-/// (sin x, cos x) of eight x at once (`wide`'s `f32x8::sin_cos`: x reduced by the nearest
-/// multiple of pi/2 in three parts (Cody-Waite), degree-7 and -8 polynomials on
+/// (sin x, cos x) of eight x at once (`wide`'s `f32x8::sin_cos`, op for op: x reduced by the
+/// nearest multiple of pi/2 in three parts (Cody-Waite), degree-7 and -8 polynomials on
 /// [-pi/4, pi/4], swapped and signed by the quadrant). Infinity and NaN give NaN.
 #[inline(always)]
 pub fn sin_cos_lanes<L: Lanes>(x: L) -> (L, L) {
-    x.sin_cos()
+    const DP: [f32; 3] = [
+        0.78515625 * 2.0,
+        2.4187564849853515625E-4 * 2.0,
+        3.77489497744594108E-8 * 2.0,
+    ];
+    const SIN: [f32; 3] = [-1.6666654611E-1, 8.3321608736E-3, -1.9515295891E-4];
+    const COS: [f32; 3] = [
+        4.166664568298827E-2,
+        -1.388731625493765E-3,
+        2.443315711809948E-5,
+    ];
+    let xa = x.abs();
+    // The quadrant q, and xa - q pi/2.
+    let y = round_ties_even(xa * L::splat(2.0 / std::f32::consts::PI));
+    let q = round_int(y);
+    let [dp1, dp2, dp3] = [L::splat(DP[0]), L::splat(DP[1]), L::splat(DP[2])];
+    let r = mul_neg_add(y, dp3, mul_neg_add(y, dp2, mul_neg_add(y, dp1, xa)));
+    let r2 = r * r;
+    let s = polynomial_2(r2, SIN) * (r * r2) + r;
+    let c = polynomial_2(r2, COS) * (r2 * r2) + mul_neg_add(L::splat(0.5), r2, L::ONE);
+    let swap = !(q & splat_bits(1)).int_eq(L::ZERO);
+    // Beyond 2^25 quadrants the reduction means nothing: 0 and 1, as `wide`.
+    let overflow = q.int_gt(splat_bits(0x200_0000)) & xa.is_finite();
+    let s = select(overflow, L::ZERO, s);
+    let c = select(overflow, L::ONE, c);
+    let sin = flip_signs(select(swap, c, s), q.shl::<30>() ^ x);
+    let cos = select(swap, s, c) ^ (q.int_add(splat_bits(1)) & splat_bits(2)).shl::<30>();
+    let finite = x.is_finite();
+    let nan = L::splat(f32::NAN);
+    (select(finite, sin, nan), select(finite, cos, nan))
 }
 
 /// [`sin_cos_lanes`] of one value: the same bits.

@@ -259,6 +259,34 @@ impl Lanes for Avx2 {
     fn trunc_through_int(self) -> Self {
         unsafe { Self(_mm256_cvtepi32_ps(_mm256_cvttps_epi32(self.0))) }
     }
+    #[inline(always)]
+    fn round_int_bits(self) -> Self {
+        Self::of_bits(unsafe { _mm256_cvtps_epi32(self.0) })
+    }
+    #[inline(always)]
+    fn int_to_float(self) -> Self {
+        unsafe { Self(_mm256_cvtepi32_ps(self.bits())) }
+    }
+    #[inline(always)]
+    fn int_add(self, rhs: Self) -> Self {
+        Self::of_bits(unsafe { _mm256_add_epi32(self.bits(), rhs.bits()) })
+    }
+    #[inline(always)]
+    fn int_eq(self, rhs: Self) -> Self {
+        Self::of_bits(unsafe { _mm256_cmpeq_epi32(self.bits(), rhs.bits()) })
+    }
+    #[inline(always)]
+    fn int_gt(self, rhs: Self) -> Self {
+        Self::of_bits(unsafe { _mm256_cmpgt_epi32(self.bits(), rhs.bits()) })
+    }
+    #[inline(always)]
+    fn shl<const N: i32>(self) -> Self {
+        Self::of_bits(unsafe { _mm256_slli_epi32::<N>(self.bits()) })
+    }
+    #[inline(always)]
+    fn shr<const N: i32>(self) -> Self {
+        Self::of_bits(unsafe { _mm256_srli_epi32::<N>(self.bits()) })
+    }
 }
 
 #[cfg(test)]
@@ -267,31 +295,9 @@ mod tests {
     use crate::hash::{hash, unit_f32};
     use wide::f32x8;
 
-    /// Edge values (signed zeros and infinities, NaNs of both signs, subnormals, the largest
-    /// and smallest normals, integers near 2^23 and 2^31) and hashed bit patterns.
+    /// [`super::EDGES`] and hashed bit patterns.
     fn values() -> Vec<f32> {
-        let mut v = vec![
-            0.0,
-            -0.0,
-            1.0,
-            -1.0,
-            0.5,
-            -1.5,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            f32::NAN,
-            -f32::NAN,
-            f32::MIN_POSITIVE,
-            -f32::MIN_POSITIVE / 4.0,
-            f32::from_bits(1),
-            f32::MAX,
-            f32::MIN,
-            8_388_607.5,
-            -8_388_608.0,
-            2_147_483_520.0,
-            -2_147_483_648.0,
-            3.0e9,
-        ];
+        let mut v = super::super::EDGES.to_vec();
         v.extend((0..1000u64).map(|i| f32::from_bits(hash(0xa5, &[i]) as u32)));
         v.extend((0..1000u64).map(|i| 4.0 * unit_f32(hash(0x5a, &[i])) - 2.0));
         v
@@ -333,7 +339,7 @@ mod tests {
         for (a, b) in pairs() {
             let (x, y) = (Avx2::new(a), Avx2::new(b));
             let (p, q) = (f32x8::new(a), f32x8::new(b));
-            let ops: [(&str, Avx2, f32x8); 25] = [
+            let ops: [(&str, Avx2, f32x8); 32] = [
                 ("+", x + y, p + q),
                 ("-", x - y, p - q),
                 ("*", x * y, p * q),
@@ -359,6 +365,13 @@ mod tests {
                 ("fast_max", x.fast_max(y), p.fast_max(q)),
                 ("fast_min", x.fast_min(y), p.fast_min(q)),
                 ("trunc", x.trunc_through_int(), p.trunc_through_int()),
+                ("cvtps2dq", x.round_int_bits(), p.round_int_bits()),
+                ("cvtdq2ps", x.int_to_float(), p.int_to_float()),
+                ("paddd", x.int_add(y), p.int_add(q)),
+                ("pcmpeqd", x.int_eq(y), p.int_eq(q)),
+                ("pcmpgtd", x.int_gt(y), p.int_gt(q)),
+                ("pslld", x.shl::<30>(), p.shl::<30>()),
+                ("psrld", x.shr::<23>(), p.shr::<23>()),
             ];
             for (what, got, want) in ops {
                 same(got, want, what, &a, &b);

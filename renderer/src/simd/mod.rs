@@ -12,10 +12,11 @@
 //!
 //! Same bits: every [`Avx2`] operation is the very instruction `wide`'s SSE2 form does on
 //! each half, at twice the width (IEEE addition, product, quotient, square root, the same
-//! comparison predicates, the same NaN rules for `max`/`min`), and what `wide` does by a
-//! longer algorithm (`ln`, `sin_cos`, `atan2`, `acos`) [`Avx2`] hands back to `wide` itself. The
-//! tests compare every operation bit for bit on edge values; `accel::packet`'s tests trace
-//! both types against the scalar world.
+//! comparison predicates, the same NaN rules for `max`/`min`, the same integer conversions).
+//! What `wide` does by a longer algorithm (`ln`, `sin_cos`, `atan2`, `acos`) `crate::math`
+//! writes over [`Lanes`] in `wide`'s order of operations. The tests compare every operation,
+//! and those functions, bit for bit on edge values; `accel::packet`'s tests trace both types
+//! against the scalar world.
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
@@ -61,6 +62,11 @@ pub trait Lanes:
     fn enter<K: Kernel>(kernel: K) -> K::Output;
 
     fn splat(x: f32) -> Self;
+    /// Every lane the `f32` of these bits.
+    #[inline(always)]
+    fn splat_bits(bits: u32) -> Self {
+        Self::splat(f32::from_bits(bits))
+    }
     fn new(lanes: [f32; 8]) -> Self;
     fn to_array(self) -> [f32; 8];
     fn as_array(&self) -> &[f32; 8];
@@ -98,24 +104,24 @@ pub trait Lanes:
     /// Truncated to an `i32` and back (`fast_trunc_int().round_float()`).
     fn trunc_through_int(self) -> Self;
 
-    // What `wide` computes by longer algorithms: both types give its bits.
-    #[inline(always)]
-    fn ln(self) -> Self {
-        Self::from_wide(self.to_wide().ln())
-    }
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        let (s, c) = self.to_wide().sin_cos();
-        (Self::from_wide(s), Self::from_wide(c))
-    }
-    #[inline(always)]
-    fn atan2(self, x: Self) -> Self {
-        Self::from_wide(self.to_wide().atan2(x.to_wide()))
-    }
-    #[inline(always)]
-    fn acos(self) -> Self {
-        Self::from_wide(self.to_wide().acos())
-    }
+    /// `cvtps2dq`: the nearest `i32` (ties to even), `i32::MIN` where out of range or NaN;
+    /// the result's lanes hold the integers' bits.
+    fn round_int_bits(self) -> Self;
+    /// `cvtdq2ps`: the lanes' bits read as `i32`, converted to `f32`.
+    fn int_to_float(self) -> Self;
+
+    // The lanes' bits as `i32`: what the lane math (`crate::math`) does to exponents and
+    // quadrants.
+    /// Sum, wrapping.
+    fn int_add(self, rhs: Self) -> Self;
+    /// A mask where equal.
+    fn int_eq(self, rhs: Self) -> Self;
+    /// A mask where `self` > `rhs`, signed.
+    fn int_gt(self, rhs: Self) -> Self;
+    /// Shifted left by `N` (`N` < 32).
+    fn shl<const N: i32>(self) -> Self;
+    /// Shifted right by `N`, zeros in (`N` < 32).
+    fn shr<const N: i32>(self) -> Self;
 }
 
 /// Work written once over any [`Lanes`] type: the seam between the scalar code and the packet
@@ -169,3 +175,35 @@ pub fn widths() -> &'static [Width] {
     }
     &[Width::Sse2]
 }
+
+/// Edge values for the bit-for-bit tests of the lane types and the lane math: signed zeros and
+/// infinities, NaNs of both signs, subnormals, the largest and smallest normals, whole numbers
+/// near 2^23, 2^25 pi/2 and 2^31, halves (ties of the rounding).
+#[cfg(test)]
+pub(crate) const EDGES: [f32; 25] = [
+    0.0,
+    -0.0,
+    1.0,
+    -1.0,
+    0.5,
+    -0.5,
+    1.5,
+    -1.5,
+    2.5,
+    std::f32::consts::FRAC_PI_4,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    f32::NAN,
+    -f32::NAN,
+    f32::MIN_POSITIVE,
+    -f32::MIN_POSITIVE / 4.0,
+    f32::from_bits(1),
+    f32::MAX,
+    f32::MIN,
+    8_388_607.5,
+    -8_388_608.0,
+    52_707_180.0,
+    2_147_483_520.0,
+    -2_147_483_648.0,
+    3.0e9,
+];

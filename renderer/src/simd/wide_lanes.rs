@@ -2,7 +2,14 @@
 //! the default build, one AVX register in a build for x86-64-v3).
 
 use super::{Kernel, Lanes};
-use wide::{f32x8, i32x8};
+use wide::bytemuck::cast;
+use wide::{f32x8, i32x8, u32x8};
+
+/// The same bits as `i32` lanes.
+#[inline(always)]
+fn int(x: f32x8) -> i32x8 {
+    cast(x)
+}
 
 /// `kernel` in `wide`'s lanes: a function of its own, as [`super::Avx2`]'s entry is (so a
 /// recursion through [`Lanes::enter`] is a call, not inlined into itself).
@@ -84,10 +91,39 @@ impl Lanes for f32x8 {
     #[inline(always)]
     fn lane_mask(bits: u32) -> Self {
         let bit = i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
-        wide::bytemuck::cast((i32x8::splat(bits as i32) & bit).simd_eq(bit))
+        cast((i32x8::splat(bits as i32) & bit).simd_eq(bit))
     }
     #[inline(always)]
     fn trunc_through_int(self) -> Self {
         self.fast_trunc_int().round_float()
+    }
+    /// `wide`'s `round_int` without its NaN and overflow fix-ups: `cvtps2dq` alone.
+    #[inline(always)]
+    fn round_int_bits(self) -> Self {
+        cast(self.fast_round_int())
+    }
+    #[inline(always)]
+    fn int_to_float(self) -> Self {
+        int(self).round_float()
+    }
+    #[inline(always)]
+    fn int_add(self, rhs: Self) -> Self {
+        cast(int(self) + int(rhs))
+    }
+    #[inline(always)]
+    fn int_eq(self, rhs: Self) -> Self {
+        cast(int(self).simd_eq(int(rhs)))
+    }
+    #[inline(always)]
+    fn int_gt(self, rhs: Self) -> Self {
+        cast(int(self).simd_gt(int(rhs)))
+    }
+    #[inline(always)]
+    fn shl<const N: i32>(self) -> Self {
+        cast(int(self) << N)
+    }
+    #[inline(always)]
+    fn shr<const N: i32>(self) -> Self {
+        cast(cast::<_, u32x8>(self) >> N)
     }
 }
