@@ -13,8 +13,9 @@
 // cross products and quaternion products whenever FMA is on at compile time (`-C
 // target-cpu=native` turns it on): frames would then differ in their last bits from the
 // default build's, and shards of one job rendered by the two builds would not be the same
-// bytes (README.md, "On a cluster"). An AVX2 build without FMA keeps every bit and is faster
-// (BENCHMARKS.md, "Lanes chosen at run time").
+// bytes (README.md, "On a cluster"). An AVX2 build without FMA keeps every bit, and gains
+// little: the packet code takes AVX2 lanes at run time anyway (BENCHMARKS.md, "Lanes chosen at
+// run time").
 #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
 compile_error!(
     "blurlab must be built without fused multiply-adds, or its pictures change: add \

@@ -62,9 +62,6 @@ pub fn run(args: JobArgs) -> Result<()> {
         let (dry, warnings) = renderer::job::dry_run(&job, shard)?;
         super::print_warnings(&warnings);
         print!("{dry}");
-        if let Some(note) = avx2_note(cpu_has_avx2(), cfg!(target_feature = "avx2")) {
-            println!("note: {note}");
-        }
         return Ok(());
     }
     let opts = RunOptions {
@@ -105,28 +102,6 @@ pub fn run(args: JobArgs) -> Result<()> {
     Ok(())
 }
 
-/// A word under the dry run's estimate where the CPU runs AVX2 and this binary is not built for
-/// it: its packet code takes AVX2 lanes anyway, but an AVX2 build is 1.1-1.2x faster still
-/// (BENCHMARKS.md, "Lanes chosen at run time").
-fn avx2_note(cpu_has_avx2: bool, built_for_avx2: bool) -> Option<&'static str> {
-    (cpu_has_avx2 && !built_for_avx2).then_some(
-        "this CPU has AVX2: this binary traces its packets in AVX2 lanes, and a build for it \
-         renders the same bytes 1.1-1.2x faster still (RUSTFLAGS=\"-C target-cpu=x86-64-v3 -C \
-         target-feature=-fma\" cargo install --path .; BENCHMARKS.md, \"Lanes chosen at run \
-         time\")",
-    )
-}
-
-#[cfg(target_arch = "x86_64")]
-fn cpu_has_avx2() -> bool {
-    std::arch::is_x86_feature_detected!("avx2")
-}
-
-#[cfg(not(target_arch = "x86_64"))]
-fn cpu_has_avx2() -> bool {
-    false
-}
-
 fn emit_slurm(job: &Job, args: &JobArgs, path: &Path) -> Result<()> {
     if args.shards == 0 {
         bail!("--shards must be at least 1");
@@ -162,17 +137,4 @@ fn emit_slurm(job: &Job, args: &JobArgs, path: &Path) -> Result<()> {
     renderer::atomic::write_atomic(path, text.as_bytes())?;
     println!("{}", emitted_message(path, &options));
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::avx2_note;
-
-    #[test]
-    fn the_avx2_note_is_for_an_avx2_cpu_running_a_build_without_it() {
-        assert!(avx2_note(true, false).is_some_and(|n| n.contains("target-feature=-fma")));
-        assert_eq!(avx2_note(true, true), None);
-        assert_eq!(avx2_note(false, false), None);
-        assert_eq!(avx2_note(false, true), None);
-    }
 }
