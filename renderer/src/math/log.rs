@@ -1,7 +1,7 @@
 //! The natural logarithm in lanes (see the module notes of [`super`]).
 
 use super::vcl::{exponent, fraction_2, is_sign_negative, is_zero_or_subnormal, mul_add};
-use super::vcl::{mul_neg_add, polynomial_8, select, splat_bits};
+use super::vcl::{mul_neg_add, polynomial_8, select};
 use crate::simd::Lanes;
 use wide::f32x8;
 
@@ -40,12 +40,12 @@ pub fn ln_lanes<L: Lanes>(x1: L) -> L {
         return res;
     }
     // Zero and subnormals -infinity (as `wide`), infinity itself, the rest of x <= 0 NaN.
-    let res = select(underflow, splat_bits(0x7FC0_0101), res);
-    let res = select(is_zero_or_subnormal(x1), -splat_bits::<L>(0x7F80_0000), res);
+    let res = select(underflow, L::splat_bits(0x7FC0_0101), res);
+    let res = select(is_zero_or_subnormal(x1), -L::splat_bits(0x7F80_0000), res);
     let res = select(overflow, x1, res);
     select(
         !x1.is_finite() & is_sign_negative(x1),
-        splat_bits(0x7FC0_0101),
+        L::splat_bits(0x7FC0_0101),
         res,
     )
 }

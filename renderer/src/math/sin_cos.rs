@@ -1,7 +1,7 @@
 //! Sine and cosine in lanes (see the module notes of [`super`]).
 
+use super::vcl::select;
 use super::vcl::{flip_signs, mul_neg_add, polynomial_2, round_int, round_ties_even};
-use super::vcl::{select, splat_bits};
 use crate::simd::Lanes;
 use wide::f32x8;
 
@@ -30,13 +30,13 @@ pub fn sin_cos_lanes<L: Lanes>(x: L) -> (L, L) {
     let r2 = r * r;
     let s = polynomial_2(r2, SIN) * (r * r2) + r;
     let c = polynomial_2(r2, COS) * (r2 * r2) + mul_neg_add(L::splat(0.5), r2, L::ONE);
-    let swap = !(q & splat_bits(1)).int_eq(L::ZERO);
+    let swap = !(q & L::splat_bits(1)).int_eq(L::ZERO);
     // Beyond 2^25 quadrants the reduction means nothing: 0 and 1, as `wide`.
-    let overflow = q.int_gt(splat_bits(0x200_0000)) & xa.is_finite();
+    let overflow = q.int_gt(L::splat_bits(0x200_0000)) & xa.is_finite();
     let s = select(overflow, L::ZERO, s);
     let c = select(overflow, L::ONE, c);
     let sin = flip_signs(select(swap, c, s), q.shl::<30>() ^ x);
-    let cos = select(swap, s, c) ^ (q.int_add(splat_bits(1)) & splat_bits(2)).shl::<30>();
+    let cos = select(swap, s, c) ^ (q.int_add(L::splat_bits(1)) & L::splat_bits(2)).shl::<30>();
     let finite = x.is_finite();
     let nan = L::splat(f32::NAN);
     (select(finite, sin, nan), select(finite, cos, nan))

@@ -25,12 +25,6 @@ pub fn select<L: Lanes>(mask: L, if_true: L, if_false: L) -> L {
     mask.bitselect(if_true, if_false)
 }
 
-/// Every lane the `f32` of these bits.
-#[inline(always)]
-pub fn splat_bits<L: Lanes>(bits: u32) -> L {
-    L::splat_bits(bits)
-}
-
 /// `x` with its sign flipped where `sign`'s is set.
 #[inline(always)]
 pub fn flip_signs<L: Lanes>(x: L, sign: L) -> L {
@@ -42,7 +36,7 @@ pub fn flip_signs<L: Lanes>(x: L, sign: L) -> L {
 #[inline(always)]
 pub fn round_ties_even<L: Lanes>(x: L) -> L {
     let i = x.round_int_bits();
-    let overflowed = i.int_eq(splat_bits(0x8000_0000));
+    let overflowed = i.int_eq(L::splat_bits(0x8000_0000));
     select(overflowed, x, i.int_to_float())
 }
 
@@ -65,26 +59,26 @@ pub fn exponent<L: Lanes>(x: L) -> L {
 /// The mantissa of `x` scaled into [1/2, 1).
 #[inline(always)]
 pub fn fraction_2<L: Lanes>(x: L) -> L {
-    (x & splat_bits(0x007F_FFFF)) | splat_bits(0x3F00_0000)
+    (x & L::splat_bits(0x007F_FFFF)) | L::splat_bits(0x3F00_0000)
 }
 
 /// Where `x` is infinite.
 #[inline(always)]
 pub fn is_inf<L: Lanes>(x: L) -> L {
-    x.shl::<1>().int_eq(splat_bits(0xFF00_0000))
+    x.shl::<1>().int_eq(L::splat_bits(0xFF00_0000))
 }
 
 /// Where the sign bit of `x` is set (negative zero and NaNs included).
 #[inline(always)]
 pub fn is_sign_negative<L: Lanes>(x: L) -> L {
-    let sign = splat_bits(0x8000_0000);
+    let sign = L::splat_bits(0x8000_0000);
     (x & sign).int_eq(sign)
 }
 
 /// Where `x` is zero or subnormal (its exponent bits all zero).
 #[inline(always)]
 pub fn is_zero_or_subnormal<L: Lanes>(x: L) -> L {
-    (x & splat_bits(0x7F80_0000)).int_eq(L::ZERO)
+    (x & L::splat_bits(0x7F80_0000)).int_eq(L::ZERO)
 }
 
 /// c0 + c1 x + c2 x^2 (`wide`'s `polynomial_2!`).
